@@ -1,0 +1,72 @@
+// The camera: a pinhole on a sphere around the scene centre, always looking at it.
+// Conventions (written down once, in doc/CONVENTIONS.md):
+//  - world frame: REP 103, x forward, y left, z up; metres; the scene centre is the origin.
+//  - azimuth: angle about world +z from +x towards +y [rad], wrapped to (-pi, pi].
+//  - elevation: angle above the horizontal xy plane [rad], clamped to [-limit, +limit].
+//  - position = radius * (cos(el) cos(az), cos(el) sin(az), sin(el)).
+//  - optical frame (REP 103 camera convention): z forward (towards the origin), x right, y down.
+#pragma once
+
+#include <Eigen/Geometry>
+
+namespace occlusion_env {
+
+/// Camera angles on the sphere [rad].
+struct SphericalPose {
+  double azimuth_rad = 0.0;
+  double elevation_rad = 0.0;
+};
+
+/// Pinhole intrinsics in ROS's convention: pixel centres at integer coordinates, so the principal
+/// point of a W x H image is ((W - 1) / 2, (H - 1) / 2).
+struct CameraIntrinsics {
+  int width = 256;
+  int height = 256;
+  double fx = 0.0;  // [px]
+  double fy = 0.0;  // [px]
+  double cx = 0.0;  // [px]
+  double cy = 0.0;  // [px]
+
+  /// Square pixels; `horizontal_fov_rad` spans the image width. Throws InvalidArgumentError for a
+  /// size outside [16, 4096] or a field of view outside (0, pi).
+  static CameraIntrinsics fromFieldOfView(int width, int height, double horizontal_fov_rad);
+
+  /// Projects a point given in the optical frame to pixel coordinates (no bounds check).
+  Eigen::Vector2d project(const Eigen::Vector3d& point_optical) const {
+    return {fx * point_optical.x() / point_optical.z() + cx,
+            fy * point_optical.y() / point_optical.z() + cy};
+  }
+};
+
+class SphericalCamera {
+ public:
+  /// Throws InvalidArgumentError unless radius > 0 and 0 <= elevation limit < pi/2.
+  SphericalCamera(double radius_m, double elevation_limit_rad);
+
+  double radius() const { return radius_m_; }
+  double elevationLimit() const { return elevation_limit_rad_; }
+
+  /// Azimuth wrapped to (-pi, pi], elevation clamped to the limit.
+  SphericalPose normalized(const SphericalPose& pose) const;
+
+  /// `pose` moved by the given angle increments, then normalized.
+  SphericalPose moved(const SphericalPose& pose, double d_azimuth_rad, double d_elevation_rad) const;
+
+  /// Camera centre in the world frame [m].
+  Eigen::Vector3d position(const SphericalPose& pose) const;
+
+  /// Camera body frame (x forward towards the origin, y left, z up) in the world frame.
+  Eigen::Isometry3d worldFromBody(const SphericalPose& pose) const;
+
+  /// Optical frame (z forward, x right, y down) in the world frame.
+  Eigen::Isometry3d worldFromOptical(const SphericalPose& pose) const;
+
+ private:
+  double radius_m_;
+  double elevation_limit_rad_;
+};
+
+/// The fixed rotation from the camera body frame to its optical frame (REP 103).
+Eigen::Matrix3d bodyFromOpticalRotation();
+
+}  // namespace occlusion_env

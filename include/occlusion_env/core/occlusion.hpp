@@ -1,0 +1,36 @@
+// Counting occlusion from amodal silhouettes (Eq. 9 of the paper, with hard masks).
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace occlusion_env {
+
+/// Overlap of the amodal silhouettes of objects `first` < `second` [px].
+struct PairOcclusion {
+  int first = 0;
+  int second = 0;
+  std::int64_t pixels = 0;
+};
+
+struct OcclusionStats {
+  /// L = sum over object pairs of their overlap [px]; a pixel covered by k objects counts
+  /// k(k-1)/2 times, as in Eq. 9.
+  std::int64_t total_pixels = 0;
+  /// Pixels where at least two silhouettes overlap (the occlusion mask's area) [px].
+  std::int64_t occluded_area_pixels = 0;
+  /// Pixels covered by at least one silhouette [px].
+  std::int64_t union_pixels = 0;
+  /// Every pair i < j, in order (0,1), (0,2), ..., (1,2), ...
+  std::vector<PairOcclusion> pairs;
+};
+
+/// Computes the statistics from `amodal_bits` (CV_8UC1, bit k = object k) for `num_objects`
+/// objects (1..8). When `occlusion_mask` is non-null it receives a CV_8UC1 image, 255 where two or
+/// more silhouettes overlap and 0 elsewhere (reusing its buffer when the size matches).
+/// Throws InvalidArgumentError on a wrong image type or object count.
+OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects,
+                                cv::Mat* occlusion_mask = nullptr);
+
+}  // namespace occlusion_env

@@ -1,0 +1,57 @@
+// Rendering interface: one call gives colour, metric depth, the visible-instance mask, each
+// object's amodal silhouette and each object's own front depth. OSMesa implements it; an EGL
+// back end can follow behind the same interface.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/core/camera.hpp"
+#include "occlusion_env/core/mesh.hpp"
+
+namespace occlusion_env {
+
+/// Most objects one scene may hold (one amodal bit and one depth target each).
+constexpr int kMaxSceneObjects = 8;
+
+/// A mesh placed in the world. The mesh must outlive the renderer's use of it (until the next
+/// setScene()).
+struct PlacedMesh {
+  const Mesh* mesh = nullptr;
+  Eigen::Isometry3d world_from_object = Eigen::Isometry3d::Identity();
+};
+
+/// Everything one render produces. Allocated on the first render; later renders write into the
+/// same buffers (no allocation on the hot path), so copy (clone) what must outlive the next call.
+struct RenderBuffers {
+  cv::Mat rgb;          // CV_8UC3, RGB order (rgb8)
+  cv::Mat depth;        // CV_32FC1, [m] along the optical axis, NaN where nothing is hit (REP 118)
+  cv::Mat instance;     // CV_8UC1, 0 = background, k + 1 = object k is the nearest surface
+  cv::Mat amodal_bits;  // CV_8UC1, bit k set where object k covers the pixel, hidden or not
+  std::vector<cv::Mat> object_depth;  // per object, CV_32FC1: [m] of its front surface alone,
+                                      // +inf where the object does not cover the pixel
+};
+
+class Renderer {
+ public:
+  virtual ~Renderer() = default;
+
+  /// Uploads the scene's meshes (at most kMaxSceneObjects); called on reset, not on step.
+  /// Throws InvalidArgumentError for too many objects or a null mesh.
+  virtual void setScene(const std::vector<PlacedMesh>& objects) = 0;
+
+  /// Renders the current scene seen from `world_from_optical` into `out`.
+  virtual void render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) = 0;
+
+  virtual const CameraIntrinsics& intrinsics() const = 0;
+  virtual std::string name() const = 0;
+};
+
+/// An off-screen OpenGL 3.3 core renderer on OSMesa (llvmpipe). Its GL context belongs to the
+/// thread that creates it; every call must come from that thread. Several may coexist.
+std::unique_ptr<Renderer> makeOsMesaRenderer(const CameraIntrinsics& intrinsics);
+
+}  // namespace occlusion_env

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages occlusion_env needs, skipping those already installed.
+# Usage: scripts/install_deps.sh [--with-viz]   (--with-viz adds rviz and Xvfb)
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake pkg-config git
+  # ROS 1 from Debian (no separate prefix) and the Python modules the shell tools need
+  ros-base-dev catkin python3-catkin-pkg libroscpp-dev libtf2-ros-dev libtf2-eigen-dev
+  libimage-transport-dev libcv-bridge-dev libvisualization-msgs-dev libsensor-msgs-dev
+  libgeometry-msgs-dev libstd-srvs-dev python3-rostest rosbash python3-roslaunch
+  python3-rosservice python3-rostopic python3-rosnode python3-sensor-msgs python3-geometry-msgs
+  python3-tf2-msgs python3-visualization-msgs python3-std-srvs python3-tf2-ros tf-tools
+  # core libraries
+  libeigen3-dev libopencv-dev libassimp-dev libosmesa6-dev libmeshoptimizer-dev libzip-dev
+  libyaml-cpp-dev
+  # tests and benchmarks
+  libgtest-dev libbenchmark-dev
+  # objects: Sweet Home 3D furniture (our ShapeNet substitute), statistics engine
+  sweethome3d-furniture jags
+)
+if [[ "${1:-}" == "--with-viz" ]]; then
+  packages+=(rviz xvfb)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+echo "install_deps: installing ${#missing[@]} missing packages: ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

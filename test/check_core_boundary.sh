@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Fails if the ROS-free core library reaches any ROS header, directly or through another header,
+# or if its compile commands carry a catkin/ROS include path.
+# Usage: check_core_boundary.sh SOURCE_DIR COMPILE_COMMANDS_JSON
+set -uo pipefail
+src=${1:?source dir}
+db=${2:?compile_commands.json}
+ros_dirs='/(ros|roscpp|rosconsole|sensor_msgs|geometry_msgs|std_msgs|tf2_ros|tf2_msgs|cv_bridge|image_transport|visualization_msgs|xmlrpcpp)/'
+status=0
+
+# 1. Direct includes.
+if grep -rnE '#\s*include\s*[<"](ros|sensor_msgs|geometry_msgs|std_msgs|tf2_ros|cv_bridge|image_transport|visualization_msgs|occlusion_env/ros)/' \
+    "$src/src/core" "$src/include/occlusion_env/core"; then
+  echo "core_boundary: the core includes ROS headers (above)"; status=1
+fi
+
+# 2. Transitive includes and include paths, from the compiler itself.
+n=0
+while IFS= read -r entry; do
+  file=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["file"])' "$entry")
+  cmd=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["command"])' "$entry")
+  if grep -qE -- '-I[^ ]*(devel/include|/opt/ros)' <<<"$cmd"; then
+    echo "core_boundary: $file is compiled with a catkin include path"; status=1
+  fi
+  # Preprocess only, listing every header reached.
+  deps_cmd=$(sed -E 's/ -o [^ ]+/ /; s/ -c / /' <<<"$cmd")
+  deps=$(cd "$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["directory"])' "$entry")" && eval "$deps_cmd -M -MF /dev/stdout" 2>&1)
+  if grep -qE "$ros_dirs" <<<"$deps"; then
+    echo "core_boundary: $file reaches ROS headers:"; grep -oE "[^ ]*$ros_dirs[^ ]*" <<<"$deps" | head -5
+    status=1
+  fi
+  n=$((n + 1))
+done < <(python3 - "$db" <<'PY'
+import json, sys
+for e in json.load(open(sys.argv[1])):
+    if "/src/core/" in e["file"]:
+        print(json.dumps(e))
+PY
+)
+if [[ $n -eq 0 ]]; then echo "core_boundary: no core sources in $db"; status=1; fi
+[[ $status -eq 0 ]] && echo "core_boundary: $n core sources checked, no ROS header reached"
+exit $status
