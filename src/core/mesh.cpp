@@ -2,9 +2,12 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "occlusion_env/core/errors.hpp"
 
@@ -53,6 +56,14 @@ namespace {
 
 // Indices into a copy of `mesh` whose vertices are unique by position, so that simplification can
 // collapse across seams in colour or texture coordinates.
+struct TriangleHash {
+  std::size_t operator()(const std::array<std::uint32_t, 3>& t) const {
+    return (static_cast<std::size_t>(t[0]) * 73856093u) ^
+           (static_cast<std::size_t>(t[1]) * 19349663u) ^
+           (static_cast<std::size_t>(t[2]) * 83492791u);
+  }
+};
+
 Mesh weldByPosition(const Mesh& mesh) {
   struct KeyHash {
     std::size_t operator()(const Eigen::Vector3f& p) const {
@@ -79,10 +90,18 @@ Mesh weldByPosition(const Mesh& mesh) {
     remap[v] = it->second;
   }
   welded.indices.reserve(mesh.indices.size());
+  // Double-sided surfaces are often modelled as two copies with opposite winding; after welding
+  // they share every edge, which the simplifier treats as removable. Nothing is culled, so one
+  // copy of each triangle (as a vertex set) is enough.
+  std::unordered_set<std::array<std::uint32_t, 3>, TriangleHash> seen;
+  seen.reserve(mesh.indices.size() / 3);
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
     const std::uint32_t a = remap[mesh.indices[t]], b = remap[mesh.indices[t + 1]],
                         c = remap[mesh.indices[t + 2]];
     if (a == b || b == c || a == c) continue;  // degenerate after welding
+    std::array<std::uint32_t, 3> key{a, b, c};
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;  // the same triangle again (e.g. its back face)
     welded.indices.insert(welded.indices.end(), {a, b, c});
   }
   return welded;
@@ -116,9 +135,9 @@ Mesh simplifyMesh(const Mesh& mesh, std::size_t max_triangles) {
   const std::size_t target_index_count = max_triangles * 3;
   std::vector<std::uint32_t> indices(welded.indices.size());
   // Attribute-free, topology-preserving simplification; no error limit (the budget decides).
-  std::size_t count = meshopt_simplify(indices.data(), welded.indices.data(), welded.indices.size(),
-                                       welded.positions[0].data(), welded.positions.size(),
-                                       sizeof(Eigen::Vector3f), target_index_count, 1.0f, 0, nullptr);
+  std::size_t count = meshopt_simplify(
+      indices.data(), welded.indices.data(), welded.indices.size(), welded.positions[0].data(),
+      welded.positions.size(), sizeof(Eigen::Vector3f), target_index_count, 1.0f, 0, nullptr);
   indices.resize(count);
   if (count > target_index_count) {
     // Topology (e.g. many separate parts) blocked the collapse: finish with clustering.
@@ -130,7 +149,12 @@ Mesh simplifyMesh(const Mesh& mesh, std::size_t max_triangles) {
     indices.swap(sloppy);
   }
   if (indices.empty()) return compact(welded, welded.indices);  // never return an empty mesh
-  return compact(welded, indices);
+  // Triangle order for the post-transform vertex cache; compact() then orders vertices by first
+  // use, which is what vertex fetch wants.
+  std::vector<std::uint32_t> ordered(indices.size());
+  meshopt_optimizeVertexCache(ordered.data(), indices.data(), indices.size(),
+                              welded.positions.size());
+  return compact(welded, ordered);
 }
 
 }  // namespace occlusion_env

@@ -50,7 +50,8 @@ class SphericalCamera {
   SphericalPose normalized(const SphericalPose& pose) const;
 
   /// `pose` moved by the given angle increments, then normalized.
-  SphericalPose moved(const SphericalPose& pose, double d_azimuth_rad, double d_elevation_rad) const;
+  SphericalPose moved(const SphericalPose& pose, double d_azimuth_rad,
+                      double d_elevation_rad) const;
 
   /// Camera centre in the world frame [m].
   Eigen::Vector3d position(const SphericalPose& pose) const;

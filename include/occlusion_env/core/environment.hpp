@@ -19,25 +19,26 @@ namespace occlusion_env {
 /// Every option of the environment, with the defaults config/sim.yaml documents.
 struct EnvironmentOptions {
   // Camera.
-  int width = 256;                          // [px], 64..1024
-  int height = 256;                         // [px], 64..1024
-  double field_of_view_rad = 1.0471975512;  // horizontal, 60 deg
-  double radius_m = 4.0;                    // sphere radius
-  double elevation_limit_rad = 1.3962634016;  // +/- 80 deg
+  int width = 256;                                 // [px], 64..1024
+  int height = 256;                                // [px], 64..1024
+  double field_of_view_rad = 1.0471975512;         // horizontal, 60 deg
+  double radius_m = 4.0;                           // sphere radius
+  double elevation_limit_rad = 1.3962634016;       // +/- 80 deg
   double start_azimuth_range_rad = 0.09817477042;  // start azimuth ~ U(-r, r), r = pi/32
   double start_elevation_rad = 0.0;
 
   // Objects.
   CatalogOptions catalog;
-  std::size_t lod_triangle_budget = 4000;  // per object; 0 renders full meshes
+  std::size_t lod_triangle_budget = 5000;  // per object; 0 renders full meshes
   SceneOptions scene;
-  std::string preset = "random";           // random | two_chairs | two_tables
-  int max_scene_attempts = 20;             // re-draws until the start view shows occlusion
+  std::string preset = "random";  // random | two_chairs | two_tables
+  int max_scene_attempts = 20;    // re-draws until the start view shows occlusion
 
   // Actions and episodes.
   bool normalize_action = true;  // true: every step moves exactly step_size_rad along the action
-  double step_size_rad = 0.05;   // unit step (the original code's); also the clip when not normalised
-  int max_steps = 50;            // truncation
+  double step_size_rad =
+      0.05;            // unit step (the original code's); also the clip when not normalised
+  int max_steps = 50;  // truncation
   RewardOptions reward;
 
   /// Throws InvalidArgumentError naming the first bad option.

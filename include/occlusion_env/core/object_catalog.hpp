@@ -15,10 +15,14 @@ namespace occlusion_env {
 struct ObjectInfo {
   std::string id;        // unique within its catalogue; looked up, never used as a file path
   std::string name;      // human-readable
-  std::string category;  // lower-case singular, e.g. "chair", "table", "lamp", "mug"
-  std::string creator;   // author to credit where the model is shown
-  std::string license;   // e.g. "CC0", "CC-BY 3.0", "BSD-3-Clause (occlusion_env)"
-  Eigen::Vector3f dimensions_m = Eigen::Vector3f::Zero();  // width, depth, height; 0 if unknown
+  std::string category;  // object type, lower-case singular: "chair", "table", "lamp", "mug", ...
+                         // ("other" when the source gives no type)
+  std::string source_category;  // the source's own grouping: Sweet Home 3D's room category
+                                // ("Living room"), a ShapeNet synset id, a folder name
+  std::string creator;          // author to credit where the model is shown
+  std::string license;          // e.g. "CC0", "CC-BY 3.0", "BSD-3-Clause (occlusion_env)"
+  // Width (along y), depth (along x, front to back) and height (z) [m]; 0 if unknown.
+  Eigen::Vector3f dimensions_m = Eigen::Vector3f::Zero();
 };
 
 class ObjectCatalog {

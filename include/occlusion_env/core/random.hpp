@@ -10,9 +10,9 @@ class RandomSource {
  public:
   explicit RandomSource(std::uint64_t seed);
 
-  std::uint64_t nextU64();          // splitmix64-seeded xoshiro256**
-  double uniform();                 // [0, 1)
-  double uniform(double lo, double hi);  // [lo, hi)
+  std::uint64_t nextU64();                    // splitmix64-seeded xoshiro256**
+  double uniform();                           // [0, 1)
+  double uniform(double lo, double hi);       // [lo, hi)
   double normal(double mean, double stddev);  // Box-Muller
   /// Uniform integer in [0, n); n > 0.
   std::uint64_t below(std::uint64_t n);

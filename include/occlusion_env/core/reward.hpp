@@ -21,8 +21,8 @@ std::string toString(RewardNormalization normalization);
 
 struct RewardOptions {
   RewardNormalization normalization = RewardNormalization::kUnion;
-  double success_bonus = 5.0;         // P when L_t <= threshold
-  double step_penalty = -0.2;         // P otherwise
+  double success_bonus = 5.0;                 // P when L_t <= threshold
+  double step_penalty = -0.2;                 // P otherwise
   std::int64_t success_threshold_pixels = 0;  // L_t at or below this ends the episode [px]
 };
 

@@ -30,9 +30,9 @@ ScenePreset parseScenePreset(const std::string& text);
 std::string toString(ScenePreset preset);
 
 struct SceneOptions {
-  int num_objects = 3;             // 1..kMaxSceneObjects
-  double depth_spacing_m = 1.0;    // object k sits k * spacing towards +x (the azimuth-0 camera)
-  double lateral_sigma_m = 1.0;    // sideways offset x ~ N(0, sigma); odd k get +x, even k get -x
+  int num_objects = 3;           // 1..kMaxSceneObjects
+  double depth_spacing_m = 1.0;  // object k sits k * spacing towards +x (the azimuth-0 camera)
+  double lateral_sigma_m = 1.0;  // sideways offset x ~ N(0, sigma); odd k get +x, even k get -x
   std::vector<std::string> categories;  // draw only from these (empty: any)
   std::vector<std::string> object_ids;  // use exactly these, in order (overrides categories)
 };

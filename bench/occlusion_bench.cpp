@@ -1,0 +1,117 @@
+// occlusion_bench: reset and step rates of the core environment (Google Benchmark).
+//   make bench            (or: build_ws/devel/lib/occlusion_env/occlusion_bench)
+// Scenes: "embedded" = a seeded random scene of the embedded objects; "oak_chairs" = three copies
+// of Sweet Home 3D's Blend Swap oak chair (31,786 triangles each) in the paper's layout.
+// LOD 1 renders the level-of-detail meshes (5000 triangles per object), LOD 0 the full meshes.
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <utility>
+
+#include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/core/errors.hpp"
+
+namespace occlusion_env {
+namespace {
+
+constexpr const char* kOakChairId = "Blend Swap CC-0#oakChair";
+constexpr std::size_t kLodBudget = 5000;
+
+enum SceneKind { kEmbedded = 0, kOakChairs = 1 };
+
+/// Libraries are shared between benchmarks so that mesh loading and simplification are paid once.
+std::shared_ptr<ObjectLibrary> sharedLibrary(SceneKind kind, bool lod) {
+  static std::map<std::pair<int, bool>, std::shared_ptr<ObjectLibrary>> libraries;
+  auto& library = libraries[{kind, lod}];
+  if (!library) {
+    CatalogOptions catalog;
+    catalog.source = kind == kEmbedded ? "embedded" : "sweethome3d";
+    library = std::make_shared<ObjectLibrary>(makeCatalog(catalog), lod ? kLodBudget : 0);
+  }
+  return library;
+}
+
+struct Setup {
+  EnvironmentOptions options;
+  ResetOptions reset;
+};
+
+Setup setupFor(const benchmark::State& state) {
+  Setup setup;
+  const auto kind = static_cast<SceneKind>(state.range(1));
+  setup.options.width = setup.options.height = static_cast<int>(state.range(0));
+  setup.options.lod_triangle_budget = state.range(2) ? kLodBudget : 0;
+  setup.options.max_steps = 1 << 30;  // stepping never truncates
+  setup.options.catalog.source = kind == kEmbedded ? "embedded" : "sweethome3d";
+  if (kind == kOakChairs) setup.reset.object_ids = {kOakChairId, kOakChairId, kOakChairId};
+  return setup;
+}
+
+void labelFor(benchmark::State& state) {
+  state.SetLabel(std::string(state.range(1) == kEmbedded ? "embedded" : "oak_chairs") +
+                 (state.range(2) ? " lod" : " full") + " " + std::to_string(state.range(0)) + "px");
+}
+
+void BM_Step(benchmark::State& state) {
+  const Setup setup = setupFor(state);
+  std::unique_ptr<Environment> env;
+  try {
+    env = std::make_unique<Environment>(
+        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env->reset(1, setup.reset);
+  } catch (const std::exception& error) {
+    state.SkipWithError(error.what());
+    return;
+  }
+  // Swing the camera back and forth around the start pose so the scene stays occluded.
+  int t = 0;
+  for (auto _ : state) {
+    const double direction = (t++ / 4) % 2 == 0 ? 1.0 : -1.0;
+    const StepResult result = env->step({direction, 0.0});
+    if (result.terminated || result.truncated) env->reset(t, setup.reset);
+    benchmark::DoNotOptimize(result.info.occlusion.total_pixels);
+  }
+  state.SetItemsProcessed(state.iterations());
+  labelFor(state);
+}
+
+void BM_Reset(benchmark::State& state) {
+  const Setup setup = setupFor(state);
+  std::unique_ptr<Environment> env;
+  try {
+    env = std::make_unique<Environment>(
+        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env->reset(0, setup.reset);  // warms the library's cache
+  } catch (const std::exception& error) {
+    state.SkipWithError(error.what());
+    return;
+  }
+  std::uint64_t seed = 1;
+  for (auto _ : state) {
+    const StepResult result = env->reset(seed++, setup.reset);
+    benchmark::DoNotOptimize(result.info.occlusion.total_pixels);
+  }
+  state.SetItemsProcessed(state.iterations());
+  labelFor(state);
+}
+
+// Arguments: image size [px], scene kind, LOD on (1) or off (0).
+void sceneArguments(benchmark::internal::Benchmark* benchmark) {
+  benchmark->ArgNames({"size", "scene", "lod"});
+  for (int kind : {kEmbedded, kOakChairs}) {
+    for (int lod : {1, 0}) {
+      for (int size : {128, 256, 512}) benchmark->Args({size, kind, lod});
+    }
+  }
+  // Wall-clock time: llvmpipe renders on its own threads, which CPU time would not count.
+  benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+}
+
+BENCHMARK(BM_Step)->Apply(sceneArguments);
+BENCHMARK(BM_Reset)->Apply(sceneArguments);
+
+}  // namespace
+}  // namespace occlusion_env
+
+BENCHMARK_MAIN();
