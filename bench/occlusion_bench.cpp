@@ -89,8 +89,13 @@ void BM_Reset(benchmark::State& state) {
   }
   std::uint64_t seed = 1;
   for (auto _ : state) {
-    const StepResult result = env->reset(seed++, setup.reset);
-    benchmark::DoNotOptimize(result.info.occlusion.total_pixels);
+    try {
+      const StepResult result = env->reset(seed++, setup.reset);
+      benchmark::DoNotOptimize(result.info.occlusion.total_pixels);
+    } catch (const SceneGenerationError&) {
+      // Rare (a few seeds in a thousand for three identical chairs): every draw came out
+      // unoccluded. Timed like any other reset; the environment keeps its last episode.
+    }
   }
   state.SetItemsProcessed(state.iterations());
   labelFor(state);

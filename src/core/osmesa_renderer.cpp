@@ -183,9 +183,16 @@ class OsMesaRenderer final : public Renderer {
     GLuint indices = 0;
     GLsizei index_count = 0;
     Eigen::Matrix4d world_from_object = Eigen::Matrix4d::Identity();
+    Eigen::AlignedBox3d bounds;  // object frame [m]
+  };
+
+  // Pixels an object can cover: x, y = first column, row; all of the image when unsure.
+  struct PixelRect {
+    int x = 0, y = 0, width = 0, height = 0;
   };
 
   void makeCurrent();
+  PixelRect footprint(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const;
   void readBack(RenderBuffers& out);
 
   CameraIntrinsics intrinsics_;
@@ -202,6 +209,7 @@ class OsMesaRenderer final : public Renderer {
 
   std::array<GpuMesh, kMaxSceneObjects> meshes_;
   int num_objects_ = 0;
+  std::array<PixelRect, kMaxSceneObjects> footprints_;  // of the last render
   std::vector<float> staging_;  // one target read back, width * height * 4
 };
 
@@ -334,6 +342,7 @@ void OsMesaRenderer::setScene(const std::vector<PlacedMesh>& objects) {
                  mesh.indices.data(), GL_STATIC_DRAW);
     gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
     gpu.world_from_object = objects[i].world_from_object.matrix();
+    gpu.bounds = boundingBox(mesh).cast<double>();
   }
   glBindVertexArray(0);
   num_objects_ = static_cast<int>(objects.size());
@@ -349,15 +358,46 @@ void OsMesaRenderer::setScene(const std::vector<PlacedMesh>& objects) {
   throwOnGlError("setScene");
 }
 
+OsMesaRenderer::PixelRect OsMesaRenderer::footprint(
+    const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const {
+  const PixelRect whole{0, 0, intrinsics_.width, intrinsics_.height};
+  double u_min = kInf, u_max = -kInf, v_min = kInf, v_max = -kInf;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d point_object =
+        mesh.bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+    const Eigen::Vector3d point = (optical_from_object * point_object.homogeneous()).head<3>();
+    if (point.z() <= kNearM) return whole;  // crosses the near plane: no cheap bound
+    const Eigen::Vector2d pixel = intrinsics_.project(point);
+    u_min = std::min(u_min, pixel.x());
+    u_max = std::max(u_max, pixel.x());
+    v_min = std::min(v_min, pixel.y());
+    v_max = std::max(v_max, pixel.y());
+  }
+  // The box's corners bound its projection; one pixel of margin covers rasterisation rounding.
+  const int x0 = std::max(0, static_cast<int>(std::floor(u_min)) - 1);
+  const int y0 = std::max(0, static_cast<int>(std::floor(v_min)) - 1);
+  const int x1 = std::min(intrinsics_.width, static_cast<int>(std::ceil(u_max)) + 2);
+  const int y1 = std::min(intrinsics_.height, static_cast<int>(std::ceil(v_max)) + 2);
+  if (x1 <= x0 || y1 <= y0) return {0, 0, 0, 0};  // off screen
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
 void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) {
   makeCurrent();
   const Eigen::Matrix4d optical_from_world = world_from_optical.inverse(Eigen::Isometry).matrix();
   static constexpr float kInfs[4] = {kInf, kInf, kInf, kInf};
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-  for (int i = 0; i < num_objects_; ++i) glClearBufferfv(GL_COLOR, i, kInfs);
+  // Each object only touches the pixels of its bounding box's projection: clear, draw and read
+  // back just those (objects typically cover a fraction of the image).
+  glEnable(GL_SCISSOR_TEST);
   for (int i = 0; i < num_objects_; ++i) {
     const GpuMesh& mesh = meshes_[i];
     const Eigen::Matrix4d optical_from_object = optical_from_world * mesh.world_from_object;
+    const PixelRect rect = footprint(mesh, optical_from_object);
+    footprints_[i] = rect;
+    if (rect.width == 0) continue;
+    glScissor(rect.x, rect.y, rect.width, rect.height);
+    glClearBufferfv(GL_COLOR, i, kInfs);
     const Eigen::Matrix4f clip_from_object =
         (clip_from_optical_ * optical_from_object).cast<float>();
     const Eigen::Matrix4f optical = optical_from_object.cast<float>();
@@ -367,6 +407,7 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
     glBindVertexArray(mesh.vertex_array);
     glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
   }
+  glDisable(GL_SCISSOR_TEST);
   readBack(out);
   throwOnGlError("render");
 }
@@ -395,23 +436,30 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
   // Merge the targets one by one: each gives its object's depth, silhouette bit and, where it is
   // the nearest so far, the visible instance and colour.
   for (int i = 0; i < num_objects_; ++i) {
-    glReadBuffer(GL_COLOR_ATTACHMENT0 + i);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, staging_.data());
-    const float* target = staging_.data();
     float* object_depth = reinterpret_cast<float*>(out.object_depth[i].data);
+    std::fill(object_depth, object_depth + num_pixels, kInf);
+    const PixelRect& rect = footprints_[i];
+    if (rect.width == 0) continue;
+    glReadBuffer(GL_COLOR_ATTACHMENT0 + i);
+    glReadPixels(rect.x, rect.y, rect.width, rect.height, GL_RGBA, GL_FLOAT, staging_.data());
     const std::uint8_t bit = static_cast<std::uint8_t>(1u << i);
-    for (std::size_t p = 0; p < num_pixels; ++p) {
-      const float depth = target[4 * p];
-      object_depth[p] = depth;
-      if (!(depth < kInf)) continue;
-      bits[p] |= bit;
-      if (depth < nearest[p]) {
-        nearest[p] = depth;
-        instance[p] = static_cast<std::uint8_t>(i + 1);
-        for (int c = 0; c < 3; ++c) {
-          std::uint32_t packed;
-          std::memcpy(&packed, &target[4 * p + 1 + c], sizeof packed);
-          rgb[3 * p + c] = static_cast<std::uint8_t>(packed & 0xffu);
+    for (int row = 0; row < rect.height; ++row) {
+      const float* target = staging_.data() + static_cast<std::size_t>(row) * rect.width * 4;
+      const std::size_t first = static_cast<std::size_t>(rect.y + row) * width + rect.x;
+      for (int col = 0; col < rect.width; ++col, target += 4) {
+        const float depth = target[0];
+        if (!(depth < kInf)) continue;
+        const std::size_t p = first + col;
+        object_depth[p] = depth;
+        bits[p] |= bit;
+        if (depth < nearest[p]) {
+          nearest[p] = depth;
+          instance[p] = static_cast<std::uint8_t>(i + 1);
+          for (int c = 0; c < 3; ++c) {
+            std::uint32_t packed;
+            std::memcpy(&packed, &target[1 + c], sizeof packed);
+            rgb[3 * p + c] = static_cast<std::uint8_t>(packed & 0xffu);
+          }
         }
       }
     }
