@@ -473,7 +473,7 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
 
 std::unique_ptr<Renderer> makeOsMesaRenderer(const CameraIntrinsics& intrinsics) {
   // llvmpipe's rasteriser threads cost more in hand-offs than they save on images of this size:
-  // on 2 cores a step ran ~1.7x faster with rasterisation on the calling thread, which also lets
+  // on 2 cores a step ran 1.2-1.7x faster with rasterisation on the calling thread, which also lets
   // one environment per core run in parallel. Read once per process, when the first context is
   // created; a value the user set wins.
   setenv("LP_NUM_THREADS", "0", /*overwrite=*/0);
