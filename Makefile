@@ -3,7 +3,7 @@
 #   make test   install what is missing, build, run every test; non-zero exit on any failure
 # Python is pinned to Debian's own interpreter: a pyenv python3 first on PATH breaks catkin.
 
-WS        := build_ws
+WS        := .build_ws
 BUILD     := $(WS)/build
 DEVEL     := $(WS)/devel
 JOBS      ?= $(shell nproc)

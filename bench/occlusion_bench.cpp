@@ -1,5 +1,5 @@
 // occlusion_bench: reset and step rates of the core environment (Google Benchmark).
-//   make bench            (or: build_ws/devel/lib/occlusion_env/occlusion_bench)
+//   make bench            (or: .build_ws/devel/lib/occlusion_env/occlusion_bench)
 // Scenes: "embedded" = a seeded random scene of the embedded objects; "oak_chairs" = three copies
 // of Sweet Home 3D's Blend Swap oak chair (31,786 triangles each) in the paper's layout.
 // LOD 1 renders the level-of-detail meshes (5000 triangles per object), LOD 0 the full meshes.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages occlusion_env needs, skipping those already installed.
-# Usage: scripts/install_deps.sh [--with-viz]   (--with-viz adds rviz and Xvfb)
+# Usage: scripts/install_deps.sh [--with-viz]   (--with-viz adds rviz, Xvfb and the screenshot
+# tools: xwd from x11-apps, ImageMagick's convert)
 set -euo pipefail
 
 packages=(
@@ -12,6 +13,11 @@ packages=(
   libgeometry-msgs-dev libstd-srvs-dev python3-rostest rosbash python3-roslaunch
   python3-rosservice python3-rostopic python3-rosnode python3-sensor-msgs python3-geometry-msgs
   python3-tf2-msgs python3-visualization-msgs python3-std-srvs python3-tf2-ros tf-tools
+  # message and service generation for the ROS interface (msg/, srv/)
+  ros-message-generation ros-message-runtime python3-genmsg python3-gencpp python3-genpy
+  libstd-msgs-dev python3-std-msgs librostest-dev
+  # the tf package's manifest, so that `rosrun tf tf_echo` finds tf-tools' executables
+  libtf-dev
   # core libraries
   libeigen3-dev libopencv-dev libassimp-dev libosmesa6-dev libmeshoptimizer-dev libzip-dev
   libyaml-cpp-dev
@@ -21,7 +27,7 @@ packages=(
   sweethome3d-furniture jags
 )
 if [[ "${1:-}" == "--with-viz" ]]; then
-  packages+=(rviz xvfb)
+  packages+=(rviz xvfb x11-apps imagemagick)
 fi
 
 missing=()

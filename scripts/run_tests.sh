@@ -4,7 +4,9 @@
 set -uo pipefail
 build_dir=${1:?usage: run_tests.sh BUILD_DIR}
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
+set +u  # the ROS setup scripts read unset variables
 source "$build_dir/../devel/setup.bash"
+set -u
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
 cd "$build_dir"
 rm -rf test_results/occlusion_env

@@ -32,6 +32,8 @@ Options:
   --azimuth RAD       start azimuth (default: drawn from the seed)
   --elevation RAD     start elevation (default 0)
   --lod N             triangle budget per object, 0 = full meshes (default 5000)
+  --steps N           then take N steps along --action before writing (default 0)
+  --action DAZ,DEL    the step direction (default 1,0: increasing azimuth)
   --out DIR           output folder (default ./occlusion_render_out)
   --list              print the catalogue's objects and exit
   --help              this text
@@ -42,6 +44,8 @@ struct Arguments {
   occlusion_env::ResetOptions reset;
   std::uint64_t seed = 0;
   std::string out_dir = "occlusion_render_out";
+  int steps = 0;
+  occlusion_env::Action action{1.0, 0.0};
   bool list = false;
 };
 
@@ -101,6 +105,14 @@ Arguments parse(int argc, char** argv) {
       const double budget = toNumber(flag, value);
       if (budget < 0) fail("--lod must be non-negative");
       args.options.lod_triangle_budget = static_cast<std::size_t>(budget);
+    } else if (flag == "--steps") {
+      args.steps = static_cast<int>(toNumber(flag, value));
+      if (args.steps < 0) fail("--steps must be non-negative");
+    } else if (flag == "--action") {
+      const std::size_t comma = value.find(',');
+      if (comma == std::string::npos) fail("--action expects DAZ,DEL, got '" + value + "'");
+      args.action = {toNumber(flag, value.substr(0, comma)),
+                     toNumber(flag, value.substr(comma + 1))};
     } else if (flag == "--out") {
       args.out_dir = value;
     } else {
@@ -130,7 +142,16 @@ int run(const Arguments& args) {
   }
 
   Environment env(args.options);
-  const StepResult result = env.reset(args.seed, args.reset);
+  StepResult result = env.reset(args.seed, args.reset);
+  for (int t = 0; t < args.steps && !result.terminated && !result.truncated; ++t) {
+    result = env.step(args.action);
+    std::cout << std::setprecision(6) << "step " << result.info.step_index << ": reward "
+              << result.reward << ", occlusion " << result.info.occlusion.total_pixels << " px"
+              << (result.terminated  ? " (terminated)"
+                  : result.truncated ? " (truncated)"
+                                     : "")
+              << "\n";
+  }
   const Observation& observation = *result.observation;
   const int num_objects = static_cast<int>(env.scene().objects.size());
 

@@ -1,0 +1,47 @@
+// Conversions from the core's types (cv::Mat, Observation, poses, meshes) to ROS messages.
+// Images are filled directly from the cv::Mat buffers: one copy, no cv_bridge.
+#pragma once
+
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "occlusion_env/CameraObservation.h"
+#include "occlusion_env/OcclusionFigures.h"
+#include "occlusion_env/core/environment.hpp"
+
+namespace occlusion_env {
+
+/// Fills `image` (reusing its buffer's capacity) with `mat`'s pixels. `mat` must be CV_8UC3
+/// (rgb8), CV_32FC1 (32FC1) or CV_8UC1 (mono8). Throws std::invalid_argument otherwise.
+void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::Image& image);
+
+/// Pinhole CameraInfo (plumb_bob, zero distortion, P = [K | 0]).
+sensor_msgs::CameraInfo toCameraInfo(const CameraIntrinsics& intrinsics,
+                                     const std_msgs::Header& header);
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& transform);
+
+/// `parent_from_child` as a transform from `parent` to `child` (tf's convention).
+geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& parent_from_child,
+                                            const ros::Time& stamp, const std::string& parent,
+                                            const std::string& child);
+
+OcclusionFigures toOcclusionFigures(const OcclusionStats& stats);
+
+/// Fills every field of `message` from the environment's current episode. `header` carries the
+/// stamp and the optical frame id; `world_frame` is the camera pose's frame.
+void fillObservation(const Environment& environment, const std_msgs::Header& header,
+                     const std::string& world_frame, CameraObservation& message);
+
+/// One TRIANGLE_LIST marker per scene object (its render mesh, vertex colours), preceded by a
+/// DELETEALL so that markers of an earlier scene disappear.
+visualization_msgs::MarkerArray toSceneMarkers(const Scene& scene, const std_msgs::Header& header);
+
+}  // namespace occlusion_env

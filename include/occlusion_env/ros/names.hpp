@@ -1,0 +1,35 @@
+// Every topic, service, node and frame name of the ROS interface, in one place. Topic and service
+// names are relative to the node's public namespace (kNamespace) and are meant to be remapped.
+#pragma once
+
+namespace occlusion_env {
+namespace names {
+
+// Namespace of the simulator's public NodeHandle, relative to the node's own namespace.
+constexpr char kNamespace[] = "occlusion";
+constexpr char kSimulatorNode[] = "occlusion_sim";
+
+// Services.
+constexpr char kResetService[] = "reset";  // occlusion_env/Reset
+constexpr char kStepService[] = "step";    // occlusion_env/Step
+
+// Published topics (camera_info topics sit beside the images, as image_transport names them).
+constexpr char kRgbImageTopic[] = "rgb/image_raw";             // sensor_msgs/Image rgb8
+constexpr char kRgbCameraInfoTopic[] = "rgb/camera_info";      // sensor_msgs/CameraInfo
+constexpr char kDepthImageTopic[] = "depth/image_raw";         // sensor_msgs/Image 32FC1 [m]
+constexpr char kDepthCameraInfoTopic[] = "depth/camera_info";  // sensor_msgs/CameraInfo
+constexpr char kOcclusionMaskTopic[] = "occlusion_mask";       // sensor_msgs/Image mono8
+constexpr char kInstanceMaskTopic[] = "instance_mask";         // sensor_msgs/Image mono8
+constexpr char kSceneMarkersTopic[] = "scene_markers";         // visualization_msgs/MarkerArray
+constexpr char kStepOutcomeTopic[] = "step_outcome";           // occlusion_env/StepOutcome
+
+// Subscribed topics.
+constexpr char kMoveTopic[] = "move";  // occlusion_env/CameraMove
+
+// Frames (REP 103/105); defaults of the ~world_frame, ~camera_frame, ~optical_frame parameters.
+constexpr char kWorldFrame[] = "world";
+constexpr char kCameraFrame[] = "occlusion_camera";           // body: x forward, y left, z up
+constexpr char kOpticalFrame[] = "occlusion_camera_optical";  // z forward, x right, y down
+
+}  // namespace names
+}  // namespace occlusion_env

@@ -1,0 +1,43 @@
+// The simulator's options, read from private ROS parameters (defaults and meanings:
+// config/sim.yaml).
+#pragma once
+
+#include <ros/node_handle.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/core/environment.hpp"
+
+namespace occlusion_env {
+
+/// A parameter is missing its expected type or value; the message names the parameter.
+class ParameterError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Everything SimulatorNode needs besides its NodeHandles.
+struct SimulatorOptions {
+  EnvironmentOptions environment;
+  std::string world_frame;       // fixed frame of the scene
+  std::string camera_frame;      // camera body frame (x forward)
+  std::string optical_frame;     // camera optical frame (z forward); the images' frame_id
+  double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
+  std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
+};
+
+/// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their
+/// defaults. Throws ParameterError naming the first parameter of the wrong type or value.
+SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node);
+
+/// Names (relative to `private_node`) of parameters set there that the simulator does not read:
+/// usually typos.
+std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node);
+
+/// Every parameter name readSimulatorOptions() reads, relative to the private namespace.
+const std::vector<std::string>& simulatorParameterNames();
+
+}  // namespace occlusion_env

@@ -1,0 +1,156 @@
+#include "occlusion_env/ros/msg_conversion.hpp"
+
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include <cstring>
+#include <stdexcept>
+
+namespace occlusion_env {
+namespace {
+
+const std::string& encodingOf(const cv::Mat& mat) {
+  switch (mat.type()) {
+    case CV_8UC3:
+      return sensor_msgs::image_encodings::RGB8;
+    case CV_32FC1:
+      return sensor_msgs::image_encodings::TYPE_32FC1;
+    case CV_8UC1:
+      return sensor_msgs::image_encodings::MONO8;
+    default:
+      throw std::invalid_argument("fillImage: unsupported cv::Mat type " +
+                                  std::to_string(mat.type()));
+  }
+}
+
+}  // namespace
+
+void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::Image& image) {
+  image.header = header;
+  image.encoding = encodingOf(mat);
+  image.height = static_cast<std::uint32_t>(mat.rows);
+  image.width = static_cast<std::uint32_t>(mat.cols);
+  image.is_bigendian = 0;
+  const std::size_t row_bytes = mat.cols * mat.elemSize();
+  image.step = static_cast<std::uint32_t>(row_bytes);
+  image.data.resize(row_bytes * mat.rows);
+  if (mat.isContinuous()) {
+    std::memcpy(image.data.data(), mat.data, image.data.size());
+  } else {
+    for (int row = 0; row < mat.rows; ++row) {
+      std::memcpy(image.data.data() + row * row_bytes, mat.ptr(row), row_bytes);
+    }
+  }
+}
+
+sensor_msgs::CameraInfo toCameraInfo(const CameraIntrinsics& intrinsics,
+                                     const std_msgs::Header& header) {
+  sensor_msgs::CameraInfo info;
+  info.header = header;
+  info.width = static_cast<std::uint32_t>(intrinsics.width);
+  info.height = static_cast<std::uint32_t>(intrinsics.height);
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = {intrinsics.fx, 0.0, intrinsics.cx, 0.0, intrinsics.fy, intrinsics.cy, 0.0, 0.0, 1.0};
+  info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  info.P = {intrinsics.fx, 0.0, intrinsics.cx, 0.0, 0.0, intrinsics.fy,
+            intrinsics.cy, 0.0, 0.0,           0.0, 1.0, 0.0};
+  return info;
+}
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& transform) {
+  return tf2::toMsg(transform);
+}
+
+geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& parent_from_child,
+                                            const ros::Time& stamp, const std::string& parent,
+                                            const std::string& child) {
+  geometry_msgs::TransformStamped transform = tf2::eigenToTransform(parent_from_child);
+  transform.header.stamp = stamp;
+  transform.header.frame_id = parent;
+  transform.child_frame_id = child;
+  return transform;
+}
+
+OcclusionFigures toOcclusionFigures(const OcclusionStats& stats) {
+  OcclusionFigures figures;
+  figures.total_pixels = stats.total_pixels;
+  figures.occluded_area_pixels = stats.occluded_area_pixels;
+  figures.union_pixels = stats.union_pixels;
+  figures.pairs.reserve(stats.pairs.size());
+  for (const PairOcclusion& pair : stats.pairs) {
+    OcclusionPair message;
+    message.first = static_cast<std::uint8_t>(pair.first);
+    message.second = static_cast<std::uint8_t>(pair.second);
+    message.pixels = pair.pixels;
+    figures.pairs.push_back(message);
+  }
+  return figures;
+}
+
+void fillObservation(const Environment& environment, const std_msgs::Header& header,
+                     const std::string& world_frame, CameraObservation& message) {
+  const Observation& observation = environment.observation();
+  const StepInfo& info = environment.info();
+  message.header = header;
+  fillImage(observation.rgb, header, message.rgb);
+  fillImage(observation.depth, header, message.depth);
+  fillImage(observation.occlusion_mask, header, message.occlusion_mask);
+  fillImage(observation.instance, header, message.instance_mask);
+  message.camera_info = toCameraInfo(environment.intrinsics(), header);
+  message.camera_pose.header.stamp = header.stamp;
+  message.camera_pose.header.frame_id = world_frame;
+  message.camera_pose.pose = toPose(info.world_from_optical);
+  message.azimuth = info.pose.azimuth_rad;
+  message.elevation = info.pose.elevation_rad;
+  message.step_index = info.step_index;
+  message.occlusion = toOcclusionFigures(info.occlusion);
+  const std::vector<SceneObject>& objects = environment.scene().objects;
+  message.object_ids.resize(objects.size());
+  message.object_categories.resize(objects.size());
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    message.object_ids[k] = objects[k].model->info.id;
+    message.object_categories[k] = objects[k].model->info.category;
+  }
+}
+
+visualization_msgs::MarkerArray toSceneMarkers(const Scene& scene, const std_msgs::Header& header) {
+  visualization_msgs::MarkerArray markers;
+  visualization_msgs::Marker clear;
+  clear.header = header;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  markers.markers.push_back(clear);
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const SceneObject& object = scene.objects[k];
+    const Mesh& mesh = object.model->render;
+    visualization_msgs::Marker marker;
+    marker.header = header;
+    marker.ns = "objects";
+    marker.id = static_cast<int>(k);
+    marker.type = visualization_msgs::Marker::TRIANGLE_LIST;
+    marker.action = visualization_msgs::Marker::ADD;
+    marker.pose.position.x = object.position_m.x();
+    marker.pose.position.y = object.position_m.y();
+    marker.pose.position.z = object.position_m.z();
+    marker.pose.orientation.w = 1.0;
+    marker.scale.x = marker.scale.y = marker.scale.z = 1.0;
+    marker.color.r = marker.color.g = marker.color.b = marker.color.a = 1.0;
+    marker.points.resize(mesh.indices.size());
+    marker.colors.resize(mesh.indices.size());
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
+      const Eigen::Vector3f& position = mesh.positions[mesh.indices[i]];
+      const Eigen::Vector3f& color = mesh.colors[mesh.indices[i]];
+      marker.points[i].x = position.x();
+      marker.points[i].y = position.y();
+      marker.points[i].z = position.z();
+      marker.colors[i].r = color.x();
+      marker.colors[i].g = color.y();
+      marker.colors[i].b = color.z();
+      marker.colors[i].a = 1.0f;
+    }
+    markers.markers.push_back(std::move(marker));
+  }
+  return markers;
+}
+
+}  // namespace occlusion_env

@@ -1,0 +1,38 @@
+#include "occlusion_env/ros/status.hpp"
+
+#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/ros/parameters.hpp"
+
+namespace occlusion_env {
+
+Status makeStatus(std::uint8_t code, const std::string& message) {
+  Status status;
+  status.code = code;
+  status.message = message;
+  return status;
+}
+
+Status statusFromException(const std::exception_ptr& error) {
+  // Most specific types first: ParameterError and InvalidArgumentError are invalid_arguments.
+  try {
+    std::rethrow_exception(error);
+  } catch (const InvalidArgumentError& e) {
+    return makeStatus(Status::INVALID_ARGUMENT, e.what());
+  } catch (const ParameterError& e) {
+    return makeStatus(Status::INVALID_ARGUMENT, e.what());
+  } catch (const InvalidStateError& e) {
+    return makeStatus(Status::INVALID_STATE, e.what());
+  } catch (const CatalogError& e) {
+    return makeStatus(Status::CATALOG_ERROR, e.what());
+  } catch (const RenderError& e) {
+    return makeStatus(Status::RENDER_ERROR, e.what());
+  } catch (const SceneGenerationError& e) {
+    return makeStatus(Status::SCENE_GENERATION_ERROR, e.what());
+  } catch (const std::exception& e) {
+    return makeStatus(Status::INTERNAL_ERROR, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return makeStatus(Status::INTERNAL_ERROR, "internal error: unknown exception");
+  }
+}
+
+}  // namespace occlusion_env
