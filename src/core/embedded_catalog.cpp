@@ -439,8 +439,8 @@ class EmbeddedCatalog final : public ObjectCatalog {
     if (it == meshes_.end()) {
       std::string valid;
       for (const ObjectInfo& info : objects_) valid += (valid.empty() ? "" : ", ") + info.id;
-      throw InvalidArgumentError("embedded catalogue: unknown object id '" + id +
-                                 "'; valid ids: " + valid);
+      throw InvalidArgumentError("embedded catalogue: unknown object id " + quoted(id) +
+                                 "; valid ids: " + valid);
     }
     return it->second;
   }

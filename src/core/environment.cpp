@@ -1,5 +1,6 @@
 #include "occlusion_env/core/environment.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -163,12 +164,18 @@ StepResult Environment::step(const Action& action) {
   }
   double d_azimuth = action.d_azimuth_rad;
   double d_elevation = action.d_elevation_rad;
-  // hypot does not overflow for huge finite actions.
-  const double length = std::hypot(d_azimuth, d_elevation);
-  const double step = options_.step_size_rad;
-  if (length > 0.0 && (options_.normalize_action || length > step)) {
-    d_azimuth *= step / length;
-    d_elevation *= step / length;
+  // Scale by the larger component first, so that neither huge nor subnormal actions over- or
+  // underflow on the way to their length.
+  const double largest = std::max(std::abs(d_azimuth), std::abs(d_elevation));
+  if (largest > 0.0) {
+    const double unit_azimuth = d_azimuth / largest, unit_elevation = d_elevation / largest;
+    const double length = largest * std::hypot(unit_azimuth, unit_elevation);  // may be inf
+    const double step = options_.step_size_rad;
+    if (options_.normalize_action || length > step) {
+      const double unit_length = std::hypot(unit_azimuth, unit_elevation);  // in [1, sqrt 2]
+      d_azimuth = unit_azimuth / unit_length * step;
+      d_elevation = unit_elevation / unit_length * step;
+    }
   }
 
   const std::int64_t previous = info_.occlusion.total_pixels;

@@ -85,7 +85,7 @@ class MeshFolderCatalog : public ObjectCatalog {
         objects_.begin(), objects_.end(), id,
         [](const ObjectInfo& object, const std::string& key) { return object.id < key; });
     if (it == objects_.end() || it->id != id)
-      throw InvalidArgumentError("folder catalogue: unknown object id '" + id + "'");
+      throw InvalidArgumentError("folder catalogue: unknown object id " + quoted(id));
     const Item& item = items_[it - objects_.begin()];
     Mesh mesh = detail::loadAssimpMesh(item.path, detail::readLocalFile, item.path);
     for (auto& p : mesh.positions) p = item.world_from_file * p;

@@ -20,7 +20,8 @@ std::shared_ptr<const ObjectModel> ObjectLibrary::get(const std::string& id) {
   }
   const ObjectInfo* info = catalog_->find(id);
   if (info == nullptr)
-    throw InvalidArgumentError("unknown object id '" + id + "' in the " + catalog_->sourceName() +
+    throw InvalidArgumentError("unknown object id " + quoted(id) + " in the " +
+                               catalog_->sourceName() +
                                " catalogue; list the valid ids with ObjectCatalog::objects()");
 
   // Loaded without the lock so that other objects load in parallel; two threads asking for the

@@ -210,7 +210,7 @@ class OsMesaRenderer final : public Renderer {
   std::array<GpuMesh, kMaxSceneObjects> meshes_;
   int num_objects_ = 0;
   std::array<PixelRect, kMaxSceneObjects> footprints_;  // of the last render
-  std::vector<float> staging_;  // one target read back, width * height * 4
+  std::vector<float> staging_;                          // one target read back, width * height * 4
 };
 
 OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)

@@ -10,8 +10,8 @@ RewardNormalization parseRewardNormalization(const std::string& text) {
   if (text == "union") return RewardNormalization::kUnion;
   if (text == "intersection") return RewardNormalization::kIntersection;
   if (text == "none") return RewardNormalization::kNone;
-  throw InvalidArgumentError("reward_normalization must be union, intersection or none, got '" +
-                             text + "'");
+  throw InvalidArgumentError("reward_normalization must be union, intersection or none, got " +
+                             quoted(text));
 }
 
 std::string toString(RewardNormalization normalization) {

@@ -24,7 +24,7 @@ std::vector<std::string> candidateIds(const ObjectCatalog& catalog,
   for (const std::string& category : categories) {
     const std::vector<std::string> in_category = catalog.idsInCategory(category);
     if (in_category.empty()) {
-      throw InvalidArgumentError("no object of category '" + category + "' in the " +
+      throw InvalidArgumentError("no object of category " + quoted(category) + " in the " +
                                  catalog.sourceName() +
                                  " catalogue; categories: " + joined(catalog.categories()));
     }
@@ -38,7 +38,7 @@ std::vector<std::string> candidateIds(const ObjectCatalog& catalog,
 
 std::shared_ptr<const ObjectModel> modelOf(ObjectLibrary& library, const std::string& id) {
   if (!library.catalog().find(id)) {
-    throw InvalidArgumentError("unknown object id '" + id + "' in the " +
+    throw InvalidArgumentError("unknown object id " + quoted(id) + " in the " +
                                library.catalog().sourceName() +
                                " catalogue (occlusion_render --list prints the ids)");
   }
@@ -51,8 +51,8 @@ ScenePreset parseScenePreset(const std::string& text) {
   if (text == "random") return ScenePreset::kRandom;
   if (text == "two_chairs") return ScenePreset::kTwoChairs;
   if (text == "two_tables") return ScenePreset::kTwoTables;
-  throw InvalidArgumentError("scene preset must be random, two_chairs or two_tables, got '" + text +
-                             "'");
+  throw InvalidArgumentError("scene preset must be random, two_chairs or two_tables, got " +
+                             quoted(text));
 }
 
 std::string toString(ScenePreset preset) {

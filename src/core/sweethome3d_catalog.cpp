@@ -248,7 +248,7 @@ class SweetHome3DCatalog : public ObjectCatalog {
         std::lower_bound(objects_.begin(), objects_.end(), id,
                          [](const ObjectInfo& o, const std::string& k) { return o.id < k; });
     if (it == objects_.end() || it->id != id)
-      throw InvalidArgumentError("sweethome3d catalogue: unknown object id '" + id + "'");
+      throw InvalidArgumentError("sweethome3d catalogue: unknown object id " + quoted(id));
     const Item& item = items_[it - objects_.begin()];
     const std::string what = item.archive + ": " + id + " (" + item.model + ")";
 

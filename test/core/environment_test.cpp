@@ -96,6 +96,18 @@ TEST(EnvironmentTest, NormalisedStepMovesExactlyOneUnitAlongTheAction) {
   EXPECT_EQ(result.info.step_index, 1);
 }
 
+TEST(EnvironmentTest, ExtremeFiniteActionsStillMoveOneUnit) {
+  Environment env(smallOptions());
+  for (const Action action : {Action{1e-320, 0.0}, Action{0.0, -1e308}, Action{1e308, 1e308},
+                              Action{-4.9e-324, 4.9e-324}}) {
+    const SphericalPose before = env.reset(5).info.pose;
+    const SphericalPose after = env.step(action).info.pose;
+    const double moved = std::hypot(after.azimuth_rad - before.azimuth_rad,
+                                    after.elevation_rad - before.elevation_rad);
+    EXPECT_NEAR(moved, 0.05, 1e-9) << action.d_azimuth_rad << ", " << action.d_elevation_rad;
+  }
+}
+
 TEST(EnvironmentTest, UnnormalisedStepIsClippedToTheStepSize) {
   EnvironmentOptions options = smallOptions();
   options.normalize_action = false;

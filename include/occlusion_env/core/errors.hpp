@@ -6,6 +6,13 @@
 
 namespace occlusion_env {
 
+/// `text` in single quotes for an error message, cut to `max_chars` (requests may carry very long
+/// strings; messages stay readable).
+inline std::string quoted(const std::string& text, std::size_t max_chars = 64) {
+  if (text.size() <= max_chars) return "'" + text + "'";
+  return "'" + text.substr(0, max_chars) + "...' (" + std::to_string(text.size()) + " chars)";
+}
+
 /// A caller passed a value the core cannot accept (bad option, non-finite action, unknown id).
 class InvalidArgumentError : public std::invalid_argument {
  public:
