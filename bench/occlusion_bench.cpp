@@ -11,6 +11,7 @@
 
 #include "occlusion_env/core/environment.hpp"
 #include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/core/occlusion_gradient.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -101,6 +102,43 @@ void BM_Reset(benchmark::State& state) {
   labelFor(state);
 }
 
+// The occlusion gradient of the start view (analytic: from the current buffers; finite
+// differences: four renders at +/- h). Compare with BM_Step (one render) in the same run.
+void gradientBenchmark(benchmark::State& state, const char* method) {
+  const Setup setup = setupFor(state);
+  std::unique_ptr<Environment> env;
+  std::unique_ptr<OcclusionGradient> gradient;
+  try {
+    env = std::make_unique<Environment>(
+        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env->reset(1, setup.reset);
+    gradient = makeOcclusionGradient(method);
+  } catch (const std::exception& error) {
+    state.SkipWithError(error.what());
+    return;
+  }
+  for (auto _ : state) {
+    const GradientResult result = gradient->compute(*env);
+    benchmark::DoNotOptimize(result.gradient);
+  }
+  state.SetItemsProcessed(state.iterations());
+  labelFor(state);
+}
+
+void BM_AnalyticGradient(benchmark::State& state) {
+  gradientBenchmark(state, "analytic");
+}
+void BM_FiniteDifferenceGradient(benchmark::State& state) {
+  gradientBenchmark(state, "finite_difference");
+}
+
+// Arguments: image size [px], scene kind, LOD on (1). Wall-clock time, as for the steps.
+void gradientArguments(benchmark::internal::Benchmark* benchmark) {
+  benchmark->ArgNames({"size", "scene", "lod"});
+  for (int kind : {kEmbedded, kOakChairs}) benchmark->Args({256, kind, 1});
+  benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+}
+
 // Arguments: image size [px], scene kind, LOD on (1) or off (0).
 void sceneArguments(benchmark::internal::Benchmark* benchmark) {
   benchmark->ArgNames({"size", "scene", "lod"});
@@ -115,6 +153,8 @@ void sceneArguments(benchmark::internal::Benchmark* benchmark) {
 
 BENCHMARK(BM_Step)->Apply(sceneArguments);
 BENCHMARK(BM_Reset)->Apply(sceneArguments);
+BENCHMARK(BM_AnalyticGradient)->Apply(gradientArguments);
+BENCHMARK(BM_FiniteDifferenceGradient)->Apply(gradientArguments);
 
 }  // namespace
 }  // namespace occlusion_env
