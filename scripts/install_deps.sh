@@ -25,6 +25,8 @@ packages=(
   libgtest-dev libbenchmark-dev
   # objects: Sweet Home 3D furniture (our ShapeNet substitute), statistics engine
   sweethome3d-furniture jags
+  # evaluation plots (scripts/plot_evaluation.py)
+  python3-matplotlib
 )
 if [[ "${1:-}" == "--with-viz" ]]; then
   packages+=(rviz xvfb x11-apps imagemagick)

@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+"""Plots of an occlusion_eval run (PNG): box plots of steps per agent, the BEST posterior of each
+pairwise mean difference (the paper's Figure A1 style) and the start-azimuth sweep (Figure 5).
+
+Usage: plot_evaluation.py --out DIR [--prefix P] [--episodes episodes.csv] [--posterior best_mu_samples.csv
+       --comparisons best_pairs.csv] [--sweep sweep_two_chairs.csv ...]
+Needs python3-matplotlib (scripts/install_deps.sh).
+"""
+import argparse
+import csv
+import math
+import os
+from collections import OrderedDict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def counted_steps(row):
+    """A failed episode counts as the step limit, as in the summary."""
+    return int(row["steps"]) if row["success"] == "1" else int(row["max_steps"])
+
+
+def by_agent(rows):
+    groups = OrderedDict()
+    for row in rows:
+        groups.setdefault(row["agent"], []).append(row)
+    return groups
+
+
+def plot_boxplot(episodes_csv, out_dir, prefix):
+    groups = by_agent(read_rows(episodes_csv))
+    labels = list(groups)
+    data = [[counted_steps(r) for r in groups[a]] for a in labels]
+    fig, ax = plt.subplots(figsize=(1.8 + 1.6 * len(labels), 4.2))
+    ax.boxplot(data, labels=labels, showmeans=True, meanline=True)
+    for i, agent in enumerate(labels, start=1):
+        failed = sum(r["success"] != "1" for r in groups[agent])
+        ax.annotate(f"n={len(data[i - 1])}, failed={failed}", (i, 0), xytext=(0, -28),
+                    textcoords="offset points", ha="center", fontsize=8,
+                    annotation_clip=False)
+    scene_set = data and groups[labels[0]][0]["scene_set"]
+    ax.set_title(f"Steps to an unoccluded view ({scene_set})")
+    ax.set_ylabel("steps (failures counted as the step limit)")
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"{prefix}steps_boxplot.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def plot_posteriors(posterior_csv, comparisons_csv, out_dir, prefix):
+    samples = OrderedDict()
+    for row in read_rows(posterior_csv):
+        samples.setdefault((row["first"], row["second"]), []).append(float(row["mu"]))
+    figures = {(r["first"], r["second"]): r for r in read_rows(comparisons_csv)}
+    pairs = [p for p in figures if p in samples]
+    if not pairs:
+        return []
+    cols = min(3, len(pairs))
+    rows = math.ceil(len(pairs) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 3.4 * rows), squeeze=False)
+    for ax, pair in zip(axes.flat, pairs):
+        mu = samples[pair]
+        stats = figures[pair]
+        low, high = float(stats["mu_hdi_low"]), float(stats["mu_hdi_high"])
+        mean = float(stats["mu_mean"])
+        prob = 100.0 * float(stats["probability_second_fewer_steps"])
+        ax.hist(mu, bins=60, color="#87ceeb", edgecolor="none", density=True)
+        ymax = ax.get_ylim()[1]
+        ax.plot([low, high], [0.05 * ymax, 0.05 * ymax], color="black", linewidth=4)
+        ax.text(low, 0.1 * ymax, f"{low:.2f}", ha="right", fontsize=8)
+        ax.text(high, 0.1 * ymax, f"{high:.2f}", ha="left", fontsize=8)
+        ax.text((low + high) / 2, 0.18 * ymax, "95% HDI", ha="center", fontsize=8)
+        ax.axvline(mean, color="navy", linewidth=1)
+        # Zero (no difference) is marked only where it lies near the posterior.
+        span = max(mu) - min(mu)
+        if min(mu) - 0.5 * span <= 0.0 <= max(mu) + 0.5 * span:
+            ax.axvline(0.0, color="green", linestyle=":", linewidth=1)
+        ax.set_title(f"{pair[0]} - {pair[1]}\nmean = {mean:.2f}, "
+                     f"P(mu < 0) = {100 - prob:.1f}%, P(mu > 0) = {prob:.1f}%", fontsize=9)
+        ax.set_xlabel("mu (difference of mean steps)")
+        ax.set_yticks([])
+    for ax in list(axes.flat)[len(pairs):]:
+        ax.axis("off")
+    fig.suptitle("BEST posterior of mu, the paired mean difference of steps", fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"{prefix}best_posteriors.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def plot_sweep(sweep_csv, out_dir):
+    rows = read_rows(sweep_csv)
+    groups = by_agent(rows)
+    scene_set = rows[0]["scene_set"] if rows else "sweep"
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for agent, agent_rows in groups.items():
+        agent_rows.sort(key=lambda r: float(r["start_azimuth_rad"]))
+        x = [math.degrees(float(r["start_azimuth_rad"])) for r in agent_rows]
+        y = [counted_steps(r) for r in agent_rows]
+        line, = ax.plot(x, y, marker="o", label=agent)
+        failed = [(xi, yi) for xi, yi, r in zip(x, y, agent_rows) if r["success"] != "1"]
+        if failed:
+            ax.scatter(*zip(*failed), marker="x", s=60, color=line.get_color(),
+                       label=f"{agent}: failed (step limit)")
+    ax.set_xlabel("start azimuth [deg]")
+    ax.set_ylabel("steps to an unoccluded view")
+    ax.set_title(f"Start-azimuth sweep: {scene_set.replace('sweep_', '')}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"{scene_set}.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--prefix", default="", help="file name prefix of the PNGs")
+    parser.add_argument("--episodes")
+    parser.add_argument("--posterior")
+    parser.add_argument("--comparisons")
+    parser.add_argument("--sweep", action="append", default=[])
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    written = []
+    if args.episodes:
+        written += plot_boxplot(args.episodes, args.out, args.prefix)
+    if args.posterior and args.comparisons:
+        written += plot_posteriors(args.posterior, args.comparisons, args.out, args.prefix)
+    for sweep in args.sweep:
+        written += plot_sweep(sweep, args.out)
+    for path in written:
+        print(path)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,267 @@
+// occlusion_eval: runs agents on a scene set or on the paper's start-azimuth sweep in process,
+// writes one CSV row per (agent, scene), then the BEST summary (Markdown) and the plots (PNG).
+//
+//   occlusion_eval --scenes config/scenes/test_embedded.yaml [--agents random,gradient]
+//   occlusion_eval --sweep two_chairs|two_tables
+//   occlusion_eval --summarize OUT/test_embedded_episodes.csv   (summary and plots only)
+//   occlusion_eval --all --out doc/evaluation                    (everything EVALUATION.md shows)
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/eval/best.hpp"
+#include "occlusion_env/eval/evaluation.hpp"
+#include "occlusion_env/eval/progress.hpp"
+#include "occlusion_env/eval/scene_set.hpp"
+#include "occlusion_env/eval/subprocess.hpp"
+#include "occlusion_env/eval/summary.hpp"
+#include "occlusion_env/eval/sweep.hpp"
+
+namespace fs = std::filesystem;
+using namespace occlusion_env;        // NOLINT
+using namespace occlusion_env::eval;  // NOLINT
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: occlusion_eval MODE [options]
+modes (one):
+  --scenes FILE        run the agents on a scene set (config/scenes/*.yaml)
+  --sweep PRESET       start-azimuth sweep of two_chairs | two_tables (Figure 5)
+  --summarize CSV      summary and plots from an episode CSV of an earlier run
+  --all                test_embedded scene set and both sweeps, plus EVALUATION.md in --out
+options:
+  --agents A,B,...     agents by name (default random,gradient)
+  --max-steps N        step limit per episode (default 50; 2000 for --sweep)
+  --limit N            only the first N scenes of the set
+  --sweep-source SRC   object source of the sweep's preset scene (default embedded)
+  --out DIR            output folder (default evaluation)
+  --best-seed S        seed of the BEST chains (default 20130601)
+  --best-samples N     kept MCMC samples per chain (default 10000; 3 chains)
+  --no-plots           skip the PNGs
+  --plot-script PATH   default: scripts/plot_evaluation.py of the source tree
+  --source-dir DIR     where config/scenes and scripts are (default: the build's source tree)
+)";
+
+struct CommandLine {
+  std::string scenes;
+  std::string sweep;
+  std::string summarize;
+  bool all = false;
+  std::vector<std::string> agents = {"random", "gradient"};
+  int max_steps = -1;  // -1: the mode's default
+  int limit = -1;
+  std::string sweep_source = "embedded";
+  std::string out = "evaluation";
+  BestOptions best;
+  bool plots = true;
+  std::string source_dir = OCCLUSION_ENV_SOURCE_DIR;
+  std::string plot_script;
+};
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.push_back(item);
+  }
+  return items;
+}
+
+CommandLine parse(int argc, char** argv) {
+  CommandLine cl;
+  auto value = [&](int& i) -> std::string {
+    if (i + 1 >= argc) throw InvalidArgumentError(std::string(argv[i]) + " needs a value");
+    return argv[++i];
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--scenes") {
+      cl.scenes = value(i);
+    } else if (arg == "--sweep") {
+      cl.sweep = value(i);
+    } else if (arg == "--summarize") {
+      cl.summarize = value(i);
+    } else if (arg == "--all") {
+      cl.all = true;
+    } else if (arg == "--agents") {
+      cl.agents = splitList(value(i));
+    } else if (arg == "--max-steps") {
+      cl.max_steps = std::stoi(value(i));
+    } else if (arg == "--limit") {
+      cl.limit = std::stoi(value(i));
+    } else if (arg == "--sweep-source") {
+      cl.sweep_source = value(i);
+    } else if (arg == "--out") {
+      cl.out = value(i);
+    } else if (arg == "--best-seed") {
+      cl.best.seed = std::stoull(value(i));
+    } else if (arg == "--best-samples") {
+      cl.best.samples_per_chain = std::stoi(value(i));
+    } else if (arg == "--no-plots") {
+      cl.plots = false;
+    } else if (arg == "--plot-script") {
+      cl.plot_script = value(i);
+    } else if (arg == "--source-dir") {
+      cl.source_dir = value(i);
+    } else if (arg == "-h" || arg == "--help") {
+      std::cout << kUsage;
+      std::exit(0);
+    } else {
+      throw InvalidArgumentError("unknown argument " + quoted(arg));
+    }
+  }
+  const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() + cl.all;
+  if (modes != 1)
+    throw InvalidArgumentError("give exactly one of --scenes, --sweep, --summarize, --all");
+  if (cl.agents.empty()) throw InvalidArgumentError("--agents: no agent named");
+  if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
+  return cl;
+}
+
+void runPlots(const CommandLine& cl, std::vector<std::string> plot_args) {
+  if (!cl.plots) return;
+  std::vector<std::string> argv = {"/usr/bin/python3", cl.plot_script, "--out", cl.out};
+  argv.insert(argv.end(), plot_args.begin(), plot_args.end());
+  const int status = runProgram(argv, "", "");
+  if (status != 0) {
+    std::cerr << "occlusion_eval: plotting failed (status " << status
+              << "); is python3-matplotlib installed? (scripts/install_deps.sh)\n";
+  }
+}
+
+// Summary Markdown, BEST CSVs and plots of one scene-set run. Returns the Markdown.
+std::string summarize(const CommandLine& cl, const std::vector<EpisodeRecord>& records,
+                      const std::string& name, const std::string& episodes_csv) {
+  std::cerr << "occlusion_eval: paired BEST (JAGS) for every pair of agents...\n";
+  const auto agents = summarizeAgents(records);
+  const auto comparisons = compareAgents(records, cl.best);
+  const std::string prefix = (fs::path(cl.out) / name).string() + "_";
+  writeComparisonCsv(comparisons, prefix + "best_pairs.csv");
+  writePosteriorSamplesCsv(comparisons, prefix + "best_mu_samples.csv");
+
+  std::ostringstream preamble;
+  preamble << "Scene set `" << name << "`, " << (records.empty() ? 0 : records.front().max_steps)
+           << " steps at most per episode; episodes: `"
+           << fs::path(episodes_csv).filename().string() << "`. BEST: " << cl.best.chains
+           << " chains x " << cl.best.samples_per_chain << " samples after "
+           << cl.best.burn_in_iterations << " burn-in (JAGS, seed " << cl.best.seed << ").";
+  std::string markdown =
+      renderSummaryMarkdown("Evaluation: " + name, preamble.str(), agents, comparisons);
+  if (cl.plots) {
+    markdown += "\n![steps per agent](" + name + "_steps_boxplot.png)\n";
+    if (!comparisons.empty()) {
+      markdown += "\n![BEST posteriors](" + name + "_best_posteriors.png)\n";
+    }
+  }
+  std::ofstream(prefix + "summary.md") << markdown;
+  runPlots(cl, {"--prefix", name + "_", "--episodes", episodes_csv, "--posterior",
+                prefix + "best_mu_samples.csv", "--comparisons", prefix + "best_pairs.csv"});
+  std::cerr << "occlusion_eval: wrote " << prefix << "summary.md\n";
+  return markdown;
+}
+
+std::vector<EpisodeRecord> runPlan(const CommandLine& cl, const EvaluationPlan& plan,
+                                   const std::string& csv_path) {
+  std::ofstream csv(csv_path);
+  if (!csv) throw InvalidArgumentError("cannot write " + csv_path);
+  ProgressBar progress(std::cerr, plan.episodes(), plan.scenes.name);
+  progress.update(0, "starting");
+  auto records = runEvaluation(plan, AgentRegistry::withBuiltinAgents(), &csv, &progress);
+  std::cerr << "occlusion_eval: wrote " << csv_path << "\n";
+  return records;
+}
+
+std::string runSceneSet(const CommandLine& cl, const std::string& scenes_path) {
+  EvaluationPlan plan;
+  plan.scenes = loadSceneSet(scenes_path);
+  requireDisjoint(plan.scenes, kTrainingSeedRange);
+  if (cl.limit > 0 && static_cast<std::size_t>(cl.limit) < plan.scenes.seeds.size()) {
+    plan.scenes.seeds.resize(cl.limit);
+  }
+  plan.agents = cl.agents;
+  plan.max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
+  const auto records = runPlan(cl, plan, csv_path);
+  return summarize(cl, records, plan.scenes.name, csv_path);
+}
+
+std::string runSweep(const CommandLine& cl, const std::string& preset) {
+  EvaluationPlan plan;
+  plan.scenes = sweepSceneSet(preset, cl.sweep_source);
+  plan.start_azimuths_rad = sweepStartAzimuths();
+  plan.agents = cl.agents;
+  plan.max_steps = cl.max_steps > 0 ? cl.max_steps : kSweepMaxSteps;
+  const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + ".csv")).string();
+  const auto records = runPlan(cl, plan, csv_path);
+  runPlots(cl, {"--sweep", csv_path});
+
+  // A small table beside the plot: steps per agent and start azimuth.
+  std::ostringstream md;
+  md << "## Start-azimuth sweep: " << preset << " (Figure 5 layout)\n\n"
+     << "One scene (preset " << preset << ", source " << plan.scenes.source << ", seed "
+     << plan.scenes.seeds.front() << "), start azimuth over [-pi/32, pi/32) in steps of pi/208, "
+     << plan.max_steps
+     << " steps at most; `F` = failed within the limit.\n\n| Start azimuth [deg] |";
+  for (const auto& agent : plan.agents) md << " " << agent << " |";
+  md << "\n|---:|";
+  for (std::size_t i = 0; i < plan.agents.size(); ++i) md << "---:|";
+  md << "\n";
+  const auto azimuths = plan.start_azimuths_rad;
+  for (std::size_t k = 0; k < azimuths.size(); ++k) {
+    md << "| " << std::fixed << std::setprecision(2) << azimuths[k] * 180.0 / M_PI << " |";
+    for (const auto& agent : plan.agents) {
+      for (const auto& record : records) {
+        if (record.agent == agent && record.start_azimuth_rad == azimuths[k]) {
+          md << " " << (record.success ? std::to_string(record.steps) : "F") << " |";
+        }
+      }
+    }
+    md << "\n";
+  }
+  if (cl.plots) md << "\n![sweep " << preset << "](" << plan.scenes.name << ".png)\n";
+  return md.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const CommandLine cl = parse(argc, argv);
+    fs::create_directories(cl.out);
+    if (!cl.scenes.empty()) {
+      runSceneSet(cl, cl.scenes);
+    } else if (!cl.sweep.empty()) {
+      const std::string markdown = runSweep(cl, cl.sweep);
+      std::ofstream(fs::path(cl.out) / ("sweep_" + cl.sweep + ".md")) << markdown;
+    } else if (!cl.summarize.empty()) {
+      const auto records = readEpisodeCsv(cl.summarize);
+      if (records.empty()) throw InvalidArgumentError(cl.summarize + " holds no episodes");
+      summarize(cl, records, records.front().scene_set, cl.summarize);
+    } else {
+      std::string document =
+          "# Evaluation results\n\nGenerated by `occlusion_eval --all` from scratch; see "
+          "EVALUATION.md for the method.\n\n";
+      const std::string scene_summary =
+          runSceneSet(cl, cl.source_dir + "/config/scenes/test_embedded.yaml");
+      document += scene_summary.substr(scene_summary.find('\n') + 1) + "\n";
+      for (const char* preset : {"two_chairs", "two_tables"}) {
+        CommandLine sweep_cl = cl;
+        sweep_cl.max_steps = cl.max_steps > 0 && cl.max_steps != 50 ? cl.max_steps : -1;
+        document += runSweep(sweep_cl, preset) + "\n";
+      }
+      std::ofstream(fs::path(cl.out) / "RESULTS.md") << document;
+      std::cerr << "occlusion_eval: wrote " << (fs::path(cl.out) / "RESULTS.md").string() << "\n";
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "occlusion_eval: " << error.what() << "\n" << kUsage;
+    return 1;
+  }
+  return 0;
+}
