@@ -7,9 +7,9 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="${1:-$root/doc/evaluation}"
 shift || true
-evaluator="$root/build_ws/devel/lib/occlusion_env/occlusion_eval"
+evaluator="$root/.build_ws/devel/lib/occlusion_env/occlusion_eval"
 if [[ ! -x "$evaluator" ]]; then
-  echo "evaluate.sh: $evaluator not built (catkin_make -C build_ws occlusion_eval)" >&2
+  echo "evaluate.sh: $evaluator not built (make build)" >&2
   exit 1
 fi
 rm -rf "$out"
