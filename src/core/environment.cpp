@@ -119,8 +119,7 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
       OcclusionStats occlusion = computeOcclusion(probe_buffers_.amodal_bits, num_objects);
-      RewardFunction reward(options_.reward);
-      if (reward.solved(occlusion.total_pixels)) continue;
+      if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
       std::swap(buffers_, probe_buffers_);
