@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The main job on the embedded objects:
 #  1. occlusion_render draws three seeded scenes to ${DEMO_OUT:-output/demo}/seed_<N>/ (images);
-#  2. roslaunch runs the simulator node with occlusion_demo_client (demo.launch), which
-#     resets the same seeds through the /occlusion/reset service, prints each scene's occlusion
-#     figures and takes a few steps through /occlusion/step. roslaunch ends with the client.
+#  2. roslaunch runs the simulator node with the gradient agent node (demo.launch) on the same
+#     seeds: the agent resets each scene through /occlusion/reset, steps along the negative
+#     occlusion gradient (/occlusion/get_occlusion_gradient) through /occlusion/step until no
+#     object hides another, and prints each episode. roslaunch ends with the agent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -17,19 +18,22 @@ for seed in 1 2 3; do
 done
 echo "Open $out/seed_1/occlusion.png to see the occluded pixels (red) and each object's outline."
 
-echo "== the same scenes through the ROS node (roslaunch occlusion_env demo.launch) =="
+echo "== the gradient agent on the same scenes (roslaunch occlusion_env demo.launch) =="
 # A private master on its own port, so that a roscore already running is left alone.
 export ROS_MASTER_URI=http://localhost:${DEMO_ROS_PORT:-11411}
 mkdir -p "$out"
-export ROS_LOG_DIR=${ROS_LOG_DIR:-$(cd "$out" && pwd)/ros_log}
+out_abs=$(cd "$out" && pwd)
+export ROS_LOG_DIR=${ROS_LOG_DIR:-$out_abs/ros_log}
 log=$out/demo_launch.log
-roslaunch -p "${DEMO_ROS_PORT:-11411}" --screen occlusion_env demo.launch seeds:="[1, 2, 3]" \
-  > "$log" 2>&1 || true
-# The client's report; the whole launch output stays in $log.
-if ! grep -q "^== scene seed" "$log"; then
-  echo "demo: the ROS demo printed no scene; see $log" >&2
+csv=$out_abs/gradient_episodes.csv
+roslaunch -p "${DEMO_ROS_PORT:-11411}" --screen occlusion_env demo.launch episodes:=3 seed:=1 \
+  csv:="$csv" > "$log" 2>&1 || true
+# The agent's report; the whole launch output stays in $log.
+if ! grep -q "gradient agent done" "$log"; then
+  echo "demo: the gradient agent did not finish; see $log" >&2
   tail -20 "$log" >&2
   exit 1
 fi
-sed -n '/^== scene seed\|^  /p' "$log"
+grep -E "episode [0-9]+/[0-9]+ seed|agent done" "$log" | sed -E 's/^.*\]: //; s/\x1b\[[0-9;]*m//g'
+echo "Episodes (steps, success, final occlusion, camera path): $csv"
 echo "Full launch output: $log"

@@ -6,8 +6,8 @@
 //   failed; ~simulator: the simulator node's name (default /occlusion_sim).
 // The simulator's PID comes from its ROS slave API (getPid); its memory is read from /proc, so
 // both must run on the same machine.
-#include <ros/ros.h>
 #include <ros/network.h>
+#include <ros/ros.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
 #include <unistd.h>

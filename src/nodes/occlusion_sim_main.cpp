@@ -21,7 +21,8 @@ int main(int argc, char** argv) {
                                            private_node);
     ROS_INFO_STREAM("occlusion_sim ready: services "
                     << node.resolveName(occlusion_env::names::kResetService) << ", "
-                    << node.resolveName(occlusion_env::names::kStepService));
+                    << node.resolveName(occlusion_env::names::kStepService) << ", "
+                    << node.resolveName(occlusion_env::names::kGradientService));
     ros::spin();
   } catch (const std::exception& error) {
     ROS_FATAL_STREAM("occlusion_sim cannot start: " << error.what());

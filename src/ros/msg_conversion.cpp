@@ -114,6 +114,47 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
   }
 }
 
+namespace {
+
+// A cv::Mat header over `image`'s data, checked against the expected encoding.
+cv::Mat matView(const sensor_msgs::Image& image, const std::string& encoding, int type) {
+  if (image.encoding != encoding) {
+    throw std::invalid_argument("image encoding " + image.encoding + ", expected " + encoding);
+  }
+  const std::size_t row_bytes = image.width * CV_ELEM_SIZE(type);
+  if (image.step < row_bytes ||
+      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
+    throw std::invalid_argument("image data smaller than its width, height and step say");
+  }
+  // The core reads observations only; the const_cast lets cv::Mat wrap the buffer without a copy.
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                 const_cast<std::uint8_t*>(image.data.data()), image.step);
+}
+
+}  // namespace
+
+void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info) {
+  namespace enc = sensor_msgs::image_encodings;
+  observation.rgb = matView(message.rgb, enc::RGB8, CV_8UC3);
+  observation.depth = matView(message.depth, enc::TYPE_32FC1, CV_32FC1);
+  observation.instance = matView(message.instance_mask, enc::MONO8, CV_8UC1);
+  observation.occlusion_mask = matView(message.occlusion_mask, enc::MONO8, CV_8UC1);
+  observation.amodal_bits.release();
+  info.pose.azimuth_rad = message.azimuth;
+  info.pose.elevation_rad = message.elevation;
+  info.step_index = message.step_index;
+  info.occlusion.total_pixels = message.occlusion.total_pixels;
+  info.occlusion.occluded_area_pixels = message.occlusion.occluded_area_pixels;
+  info.occlusion.union_pixels = message.occlusion.union_pixels;
+  info.occlusion.pairs.resize(message.occlusion.pairs.size());
+  for (std::size_t i = 0; i < message.occlusion.pairs.size(); ++i) {
+    info.occlusion.pairs[i].first = message.occlusion.pairs[i].first;
+    info.occlusion.pairs[i].second = message.occlusion.pairs[i].second;
+    info.occlusion.pairs[i].pixels = message.occlusion.pairs[i].pixels;
+  }
+  tf2::fromMsg(message.camera_pose.pose, info.world_from_optical);
+}
+
 visualization_msgs::MarkerArray toSceneMarkers(const Scene& scene, const std_msgs::Header& header) {
   visualization_msgs::MarkerArray markers;
   visualization_msgs::Marker clear;

@@ -40,98 +40,113 @@ std::string typeName(const XmlRpc::XmlRpcValue& value) {
   throw ParameterError(message.str());
 }
 
-// Each reader leaves `out` unchanged when the parameter is not set.
-class ParameterReader {
- public:
-  explicit ParameterReader(const ros::NodeHandle& node) : node_(node) {}
-
-  void read(const std::string& name, bool& out) const {
-    XmlRpc::XmlRpcValue value;
-    if (!get(name, value)) return;
-    if (value.getType() != XmlRpc::XmlRpcValue::TypeBoolean) {
-      throwWrongType(node_, name, "true or false", value);
-    }
-    out = static_cast<bool>(value);
-  }
-
-  void read(const std::string& name, double& out) const {
-    XmlRpc::XmlRpcValue value;
-    if (!get(name, value)) return;
-    if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-      out = static_cast<double>(value);
-    } else if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-      out = static_cast<int>(value);
-    } else {
-      throwWrongType(node_, name, "a number", value);
-    }
-    if (!std::isfinite(out)) throwWrongType(node_, name, "a finite number", value);
-  }
-
-  void read(const std::string& name, std::int64_t& out) const {
-    XmlRpc::XmlRpcValue value;
-    if (!get(name, value)) return;
-    // XML-RPC integers are 32-bit; larger values arrive as doubles, accepted when integral.
-    if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-      out = static_cast<int>(value);
-    } else if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble &&
-               std::trunc(static_cast<double>(value)) == static_cast<double>(value) &&
-               std::abs(static_cast<double>(value)) < 9.0e15) {
-      out = static_cast<std::int64_t>(static_cast<double>(value));
-    } else {
-      throwWrongType(node_, name, "an integer", value);
-    }
-  }
-
-  void read(const std::string& name, int& out) const {
-    std::int64_t wide = out;
-    read(name, wide);
-    if (wide < std::numeric_limits<int>::min() || wide > std::numeric_limits<int>::max()) {
-      throw ParameterError("parameter " + node_.resolveName(name) + " is out of range");
-    }
-    out = static_cast<int>(wide);
-  }
-
-  void read(const std::string& name, std::size_t& out) const {
-    std::int64_t wide = static_cast<std::int64_t>(out);
-    read(name, wide);
-    if (wide < 0) throw ParameterError("parameter " + node_.resolveName(name) + " must be >= 0");
-    out = static_cast<std::size_t>(wide);
-  }
-
-  void read(const std::string& name, std::string& out) const {
-    XmlRpc::XmlRpcValue value;
-    if (!get(name, value)) return;
-    if (value.getType() != XmlRpc::XmlRpcValue::TypeString) {
-      throwWrongType(node_, name, "a string", value);
-    }
-    out = static_cast<std::string>(value);
-  }
-
-  void read(const std::string& name, std::vector<std::string>& out) const {
-    XmlRpc::XmlRpcValue value;
-    if (!get(name, value)) return;
-    if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) {
-      throwWrongType(node_, name, "a list of strings", value);
-    }
-    std::vector<std::string> strings;
-    for (int i = 0; i < value.size(); ++i) {
-      if (value[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
-        throwWrongType(node_, name, "a list of strings", value[i]);
-      }
-      strings.push_back(static_cast<std::string>(value[i]));
-    }
-    out = std::move(strings);
-  }
-
- private:
-  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
-    return node_.hasParam(name) && node_.getParam(name, value);
-  }
-
-  const ros::NodeHandle& node_;
-};
-
 }  // namespace
+
+ParameterReader::ParameterReader(const ros::NodeHandle& node) : node_(node) {}
+
+bool ParameterReader::get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
+  return node_.hasParam(name) && node_.getParam(name, value);
+}
+
+std::string ParameterReader::prefix(const std::string& name) const {
+  return "parameter " + node_.resolveName(name);
+}
+
+void ParameterReader::read(const std::string& name, bool& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  if (value.getType() != XmlRpc::XmlRpcValue::TypeBoolean) {
+    throwWrongType(node_, name, "true or false", value);
+  }
+  out = static_cast<bool>(value);
+}
+
+void ParameterReader::read(const std::string& name, double& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
+    out = static_cast<double>(value);
+  } else if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) {
+    out = static_cast<int>(value);
+  } else {
+    throwWrongType(node_, name, "a number", value);
+  }
+  if (!std::isfinite(out)) throwWrongType(node_, name, "a finite number", value);
+}
+
+void ParameterReader::read(const std::string& name, std::int64_t& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  out = integerValue(name, value);
+}
+
+std::int64_t ParameterReader::integerValue(const std::string& name,
+                                           XmlRpc::XmlRpcValue& value) const {
+  // XML-RPC integers are 32-bit; larger values arrive as doubles, accepted when integral.
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(value);
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble &&
+      std::trunc(static_cast<double>(value)) == static_cast<double>(value) &&
+      std::abs(static_cast<double>(value)) < 9.0e15) {
+    return static_cast<std::int64_t>(static_cast<double>(value));
+  }
+  throwWrongType(node_, name, "an integer", value);
+}
+
+void ParameterReader::read(const std::string& name, int& out) const {
+  std::int64_t wide = out;
+  read(name, wide);
+  if (wide < std::numeric_limits<int>::min() || wide > std::numeric_limits<int>::max()) {
+    throw ParameterError(prefix(name) + " is out of range");
+  }
+  out = static_cast<int>(wide);
+}
+
+void ParameterReader::read(const std::string& name, std::size_t& out) const {
+  std::int64_t wide = static_cast<std::int64_t>(out);
+  read(name, wide);
+  if (wide < 0) throw ParameterError(prefix(name) + " must be >= 0");
+  out = static_cast<std::size_t>(wide);
+}
+
+void ParameterReader::read(const std::string& name, std::string& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  if (value.getType() != XmlRpc::XmlRpcValue::TypeString) {
+    throwWrongType(node_, name, "a string", value);
+  }
+  out = static_cast<std::string>(value);
+}
+
+void ParameterReader::read(const std::string& name, std::vector<std::string>& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    throwWrongType(node_, name, "a list of strings", value);
+  }
+  std::vector<std::string> strings;
+  for (int i = 0; i < value.size(); ++i) {
+    if (value[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
+      throwWrongType(node_, name, "a list of strings", value[i]);
+    }
+    strings.push_back(static_cast<std::string>(value[i]));
+  }
+  out = std::move(strings);
+}
+
+void ParameterReader::read(const std::string& name, std::vector<std::uint64_t>& out) const {
+  XmlRpc::XmlRpcValue value;
+  if (!get(name, value)) return;
+  if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    throwWrongType(node_, name, "a list of integers", value);
+  }
+  std::vector<std::uint64_t> integers;
+  for (int i = 0; i < value.size(); ++i) {
+    const std::int64_t integer = integerValue(name, value[i]);
+    if (integer < 0) throw ParameterError(prefix(name) + ": values must be >= 0");
+    integers.push_back(static_cast<std::uint64_t>(integer));
+  }
+  out = std::move(integers);
+}
 
 const std::vector<std::string>& simulatorParameterNames() {
   static const std::vector<std::string> kNames = {"width",
@@ -162,7 +177,11 @@ const std::vector<std::string>& simulatorParameterNames() {
                                                   "camera_frame",
                                                   "optical_frame",
                                                   "tf_rate",
-                                                  "start_seed"};
+                                                  "start_seed",
+                                                  "gradient_method",
+                                                  "gradient_blur_sigma",
+                                                  "gradient_finite_difference_step",
+                                                  "gradient_zero_tolerance"};
   return kNames;
 }
 
@@ -204,6 +223,10 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   reader.read("optical_frame", options.optical_frame);
   reader.read("tf_rate", options.tf_rate_hz);
   reader.read("start_seed", options.start_seed);
+  reader.read("gradient_method", options.gradient_method);
+  reader.read("gradient_blur_sigma", options.gradient.blur_sigma_px);
+  reader.read("gradient_finite_difference_step", options.gradient.finite_difference_step_rad);
+  reader.read("gradient_zero_tolerance", options.gradient.zero_gradient_tolerance);
 
   const std::string prefix = "parameter " + private_node.getNamespace() + "/";
   try {
@@ -236,6 +259,14 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   }
   if (options.start_seed < -1) {
     throw ParameterError(prefix + "start_seed must be -1 (no reset at start-up) or a seed >= 0");
+  }
+  try {
+    makeOcclusionGradient(options.gradient_method, options.gradient);  // validates the options
+  } catch (const InvalidArgumentError& error) {
+    throw ParameterError(prefix + "gradient_*: " + error.what());
+  }
+  if (options.gradient.blur_sigma_px < 0.0 || options.gradient.blur_sigma_px > 256.0) {
+    throw ParameterError(prefix + "gradient_blur_sigma must be in [0, 256] px (0: automatic)");
   }
   return options;
 }

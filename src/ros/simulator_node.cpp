@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "occlusion_env/StepOutcome.h"
+#include "occlusion_env/core/errors.hpp"
 #include "occlusion_env/ros/msg_conversion.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/status.hpp"
@@ -25,6 +26,8 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
       node_(std::move(node)),
       private_node_(std::move(private_node)),
       environment_(options.environment),
+      analytic_gradient_(makeAnalyticGradient(options.gradient)),
+      finite_difference_gradient_(makeFiniteDifferenceGradient(options.gradient)),
       image_transport_(node_) {
   validateObjectParameters();
 
@@ -56,6 +59,8 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
 
   reset_service_ = node_.advertiseService(names::kResetService, &SimulatorNode::reset, this);
   step_service_ = node_.advertiseService(names::kStepService, &SimulatorNode::step, this);
+  gradient_service_ =
+      node_.advertiseService(names::kGradientService, &SimulatorNode::getOcclusionGradient, this);
   move_subscriber_ = node_.subscribe(names::kMoveTopic, 10, &SimulatorNode::onMove, this);
   if (options_.tf_rate_hz > 0.0) {
     tf_timer_ = node_.createTimer(ros::Duration(1.0 / options_.tf_rate_hz),
@@ -133,6 +138,39 @@ bool SimulatorNode::step(Step::Request& request, Step::Response& response) {
   }
   if (response.status.code != Status::OK) {
     ROS_WARN_STREAM("step refused: " << response.status.message);
+  }
+  return true;
+}
+
+bool SimulatorNode::getOcclusionGradient(GetOcclusionGradient::Request& request,
+                                         GetOcclusionGradient::Response& response) {
+  response.status = runWithStatus([&] {
+    std::uint8_t method = request.method;
+    if (method == GetOcclusionGradient::Request::DEFAULT) {
+      method = options_.gradient_method == "finite_difference"
+                   ? GetOcclusionGradient::Request::FINITE_DIFFERENCE
+                   : GetOcclusionGradient::Request::ANALYTIC;
+    }
+    OcclusionGradient* gradient = nullptr;
+    if (method == GetOcclusionGradient::Request::ANALYTIC) gradient = analytic_gradient_.get();
+    if (method == GetOcclusionGradient::Request::FINITE_DIFFERENCE) {
+      gradient = finite_difference_gradient_.get();
+    }
+    if (gradient == nullptr) {
+      throw InvalidArgumentError("unknown gradient method " + std::to_string(method) +
+                                 " (0 default, 1 analytic, 2 finite difference)");
+    }
+    if (!environment_.hasEpisode()) throw InvalidStateError("no episode: call reset first");
+    const GradientResult result = gradient->compute(environment_);
+    response.d_azimuth = result.gradient.x();
+    response.d_elevation = result.gradient.y();
+    response.loss = result.loss;
+    response.valid = result.valid;
+    response.reason = result.reason;
+    response.method_name = gradient->name();
+  });
+  if (response.status.code != Status::OK) {
+    ROS_WARN_STREAM("get_occlusion_gradient refused: " << response.status.message);
   }
   return true;
 }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/core/occlusion_gradient.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -39,6 +40,13 @@ TEST(ShippedConfigTest, SimYamlStatesTheEnvironmentDefaults) {
   EXPECT_DOUBLE_EQ(yaml["success_bonus"].as<double>(), defaults.reward.success_bonus);
   EXPECT_DOUBLE_EQ(yaml["step_penalty"].as<double>(), defaults.reward.step_penalty);
   EXPECT_EQ(yaml["success_threshold"].as<std::int64_t>(), defaults.reward.success_threshold_pixels);
+
+  const OcclusionGradientOptions gradient;
+  EXPECT_EQ(yaml["gradient_method"].as<std::string>(), "analytic");
+  EXPECT_DOUBLE_EQ(yaml["gradient_blur_sigma"].as<double>(), gradient.blur_sigma_px);
+  EXPECT_DOUBLE_EQ(yaml["gradient_finite_difference_step"].as<double>(),
+                   gradient.finite_difference_step_rad);
+  EXPECT_DOUBLE_EQ(yaml["gradient_zero_tolerance"].as<double>(), gradient.zero_gradient_tolerance);
 }
 
 }  // namespace

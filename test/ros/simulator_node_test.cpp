@@ -18,10 +18,12 @@
 #include <mutex>
 
 #include "occlusion_env/CameraMove.h"
+#include "occlusion_env/GetOcclusionGradient.h"
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/StepOutcome.h"
 #include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/core/occlusion_gradient.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
@@ -54,6 +56,13 @@ Step::Response callStep(double d_azimuth, double d_elevation) {
   step.request.action.d_elevation = d_elevation;
   EXPECT_TRUE(ros::service::call(publicNode().resolveName(names::kStepService), step));
   return step.response;
+}
+
+GetOcclusionGradient::Response callGradient(std::uint8_t method) {
+  GetOcclusionGradient gradient;
+  gradient.request.method = method;
+  EXPECT_TRUE(ros::service::call(publicNode().resolveName(names::kGradientService), gradient));
+  return gradient.response;
 }
 
 // The options the node runs with, read from its private namespace.
@@ -146,6 +155,10 @@ TEST(SimulatorNode, StepBeforeAnyResetIsRefused) {
   const Step::Response response = callStep(1.0, 0.0);
   EXPECT_EQ(response.status.code, Status::INVALID_STATE);
   EXPECT_NE(response.status.message.find("reset"), std::string::npos) << response.status.message;
+  const GetOcclusionGradient::Response gradient =
+      callGradient(GetOcclusionGradient::Request::DEFAULT);
+  EXPECT_EQ(gradient.status.code, Status::INVALID_STATE);
+  EXPECT_FALSE(gradient.valid);
 }
 
 TEST(SimulatorNode, ResetAndStepMatchTheInProcessEnvironment) {
@@ -168,6 +181,42 @@ TEST(SimulatorNode, ResetAndStepMatchTheInProcessEnvironment) {
     EXPECT_EQ(step.observation.step_index, t);
     expectMatchesLocal(step.observation);
   }
+}
+
+TEST(SimulatorNode, GradientServiceMatchesTheInProcessGradients) {
+  ASSERT_EQ(callReset(7).status.code, Status::OK);
+  localEnvironment().reset(7);
+  const struct {
+    std::uint8_t method;
+    std::string name;
+  } methods[] = {{GetOcclusionGradient::Request::DEFAULT, nodeOptions().gradient_method},
+                 {GetOcclusionGradient::Request::ANALYTIC, "analytic"},
+                 {GetOcclusionGradient::Request::FINITE_DIFFERENCE, "finite_difference"}};
+  for (const auto& method : methods) {
+    SCOPED_TRACE(method.name);
+    const GetOcclusionGradient::Response response = callGradient(method.method);
+    ASSERT_EQ(response.status.code, Status::OK) << response.status.message;
+    EXPECT_EQ(response.method_name, method.name);
+    const GradientResult local =
+        makeOcclusionGradient(method.name, nodeOptions().gradient)->compute(localEnvironment());
+    EXPECT_EQ(response.valid, local.valid);
+    EXPECT_EQ(response.reason, local.reason);
+    EXPECT_DOUBLE_EQ(response.loss, local.loss);
+    EXPECT_DOUBLE_EQ(response.d_azimuth, local.gradient.x());
+    EXPECT_DOUBLE_EQ(response.d_elevation, local.gradient.y());
+    EXPECT_TRUE(response.valid);  // seed 7 starts occluded
+    EXPECT_GT(response.loss, 0.0);
+  }
+  // The service leaves the episode as it was.
+  const Step::Response step = callStep(1.0, 0.3);
+  localEnvironment().step({1.0, 0.3});
+  expectMatchesLocal(step.observation);
+
+  const GetOcclusionGradient::Response bad = callGradient(9);
+  EXPECT_EQ(bad.status.code, Status::INVALID_ARGUMENT);
+  EXPECT_NE(bad.status.message.find("method"), std::string::npos) << bad.status.message;
+  EXPECT_FALSE(bad.valid);
+  EXPECT_EQ(bad.d_azimuth, 0.0);
 }
 
 TEST(SimulatorNode, SameSeedGivesTheSameScene) {

@@ -1,4 +1,4 @@
-// Conversions from the core's types (cv::Mat, Observation, poses, meshes) to ROS messages.
+// Conversions between the core's types (cv::Mat, Observation, poses, meshes) and ROS messages.
 // Images are filled directly from the cv::Mat buffers: one copy, no cv_bridge.
 #pragma once
 
@@ -39,6 +39,12 @@ OcclusionFigures toOcclusionFigures(const OcclusionStats& stats);
 /// stamp and the optical frame id; `world_frame` is the camera pose's frame.
 void fillObservation(const Environment& environment, const std_msgs::Header& header,
                      const std::string& world_frame, CameraObservation& message);
+
+/// The core's view of an observation message, for agents running behind ROS: `observation` gets
+/// cv::Mat headers over the message's image buffers (no copy: valid while `message` is unchanged;
+/// amodal_bits stays empty, it is not sent), `info` the pose, step index, occlusion figures and
+/// camera pose. Throws std::invalid_argument on an image of the wrong encoding or size.
+void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info);
 
 /// One TRIANGLE_LIST marker per scene object (its render mesh, vertex colours), preceded by a
 /// DELETEALL so that markers of an earlier scene disappear.

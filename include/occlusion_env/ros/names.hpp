@@ -10,8 +10,9 @@ constexpr char kNamespace[] = "occlusion";
 constexpr char kSimulatorNode[] = "occlusion_sim";
 
 // Services.
-constexpr char kResetService[] = "reset";  // occlusion_env/Reset
-constexpr char kStepService[] = "step";    // occlusion_env/Step
+constexpr char kResetService[] = "reset";                      // occlusion_env/Reset
+constexpr char kStepService[] = "step";                        // occlusion_env/Step
+constexpr char kGradientService[] = "get_occlusion_gradient";  // occlusion_env/GetOcclusionGradient
 
 // Published topics (camera_info topics sit beside the images, as image_transport names them).
 constexpr char kRgbImageTopic[] = "rgb/image_raw";             // sensor_msgs/Image rgb8
@@ -22,6 +23,9 @@ constexpr char kOcclusionMaskTopic[] = "occlusion_mask";       // sensor_msgs/Im
 constexpr char kInstanceMaskTopic[] = "instance_mask";         // sensor_msgs/Image mono8
 constexpr char kSceneMarkersTopic[] = "scene_markers";         // visualization_msgs/MarkerArray
 constexpr char kStepOutcomeTopic[] = "step_outcome";           // occlusion_env/StepOutcome
+
+// Published by agent nodes in their private namespace.
+constexpr char kEpisodesTopic[] = "episodes";  // occlusion_env/EpisodeReport, one per episode
 
 // Subscribed topics.
 constexpr char kMoveTopic[] = "move";  // occlusion_env/CameraMove

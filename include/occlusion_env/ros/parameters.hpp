@@ -3,6 +3,7 @@
 #pragma once
 
 #include <ros/node_handle.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 
 #include <cstdint>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/core/occlusion_gradient.hpp"
 
 namespace occlusion_env {
 
@@ -17,6 +19,31 @@ namespace occlusion_env {
 class ParameterError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
+};
+
+/// Reads typed parameters relative to a NodeHandle. Each read() leaves `out` unchanged when the
+/// parameter is not set and throws ParameterError, naming the parameter, on a wrong type.
+class ParameterReader {
+ public:
+  explicit ParameterReader(const ros::NodeHandle& node);
+
+  void read(const std::string& name, bool& out) const;
+  void read(const std::string& name, double& out) const;  // finite
+  void read(const std::string& name, std::int64_t& out) const;
+  void read(const std::string& name, int& out) const;
+  void read(const std::string& name, std::size_t& out) const;  // >= 0
+  void read(const std::string& name, std::string& out) const;
+  void read(const std::string& name, std::vector<std::string>& out) const;
+  void read(const std::string& name, std::vector<std::uint64_t>& out) const;  // each >= 0
+
+  /// "parameter <resolved name>", the start of every error message about `name`.
+  std::string prefix(const std::string& name) const;
+
+ private:
+  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const;
+  std::int64_t integerValue(const std::string& name, XmlRpc::XmlRpcValue& value) const;
+
+  const ros::NodeHandle& node_;
 };
 
 /// Everything SimulatorNode needs besides its NodeHandles.
@@ -27,6 +54,8 @@ struct SimulatorOptions {
   std::string optical_frame;     // camera optical frame (z forward); the images' frame_id
   double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
   std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
+  OcclusionGradientOptions gradient;         // of the get_occlusion_gradient service
+  std::string gradient_method = "analytic";  // its default: analytic | finite_difference
 };
 
 /// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their

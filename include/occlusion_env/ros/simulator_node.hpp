@@ -1,5 +1,5 @@
-// The occlusion_sim node: the environment behind reset/step services, image topics, tf, markers
-// and a `move` topic for teleoperation.
+// The occlusion_sim node: the environment behind reset/step/gradient services, image topics, tf,
+// markers and a `move` topic for teleoperation.
 #pragma once
 
 #include <image_transport/camera_publisher.h>
@@ -12,10 +12,12 @@
 #include <memory>
 
 #include "occlusion_env/CameraMove.h"
+#include "occlusion_env/GetOcclusionGradient.h"
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Status.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/core/occlusion_gradient.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
 namespace occlusion_env {
@@ -32,6 +34,8 @@ class SimulatorNode {
   /// The service handlers, public so that tests and benchmarks can call them in-process.
   bool reset(Reset::Request& request, Reset::Response& response);
   bool step(Step::Request& request, Step::Response& response);
+  bool getOcclusionGradient(GetOcclusionGradient::Request& request,
+                            GetOcclusionGradient::Response& response);
 
  private:
   /// Applies one step; on success `result` holds its outcome. The state is unchanged on error.
@@ -51,6 +55,8 @@ class SimulatorNode {
   ros::NodeHandle node_;
   ros::NodeHandle private_node_;
   Environment environment_;
+  std::unique_ptr<OcclusionGradient> analytic_gradient_;
+  std::unique_ptr<OcclusionGradient> finite_difference_gradient_;
 
   image_transport::ImageTransport image_transport_;
   image_transport::CameraPublisher rgb_publisher_;
@@ -62,6 +68,7 @@ class SimulatorNode {
   ros::Subscriber move_subscriber_;
   ros::ServiceServer reset_service_;
   ros::ServiceServer step_service_;
+  ros::ServiceServer gradient_service_;
   tf2_ros::TransformBroadcaster transform_broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_transform_broadcaster_;
   ros::Timer tf_timer_;
