@@ -15,8 +15,6 @@ namespace eval {
 
 namespace {
 
-constexpr int kCsvColumns = 9;
-
 void requirePlainName(const std::string& name, const char* what) {
   if (name.empty() || name.find_first_of(",\"\n\r") != std::string::npos) {
     throw InvalidArgumentError(std::string("CSV ") + what +
@@ -84,9 +82,15 @@ std::vector<EpisodeRecord> readEpisodeCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InvalidArgumentError("cannot read episode CSV " + path);
   std::string line;
-  if (!std::getline(in, line) || line != episodeCsvHeader()) {
-    throw InvalidArgumentError(path + ": line 1 is not the header '" + episodeCsvHeader() + "'");
+  // Files with more columns after ours (the agent nodes' CSVs) are read too; an agent node's
+  // `completed` column must then be 1 everywhere: a cut-short episode is no agent outcome.
+  const std::string header = episodeCsvHeader();
+  if (!std::getline(in, line) ||
+      (line != header && line.compare(0, header.size() + 1, header + ",") != 0)) {
+    throw InvalidArgumentError(path + ": line 1 does not start with the header '" + header + "'");
   }
+  const std::vector<std::string> columns = splitCsvLine(line);
+  const auto completed_column = std::find(columns.begin(), columns.end(), "completed");
   std::vector<EpisodeRecord> records;
   int line_number = 1;
   while (std::getline(in, line)) {
@@ -94,9 +98,14 @@ std::vector<EpisodeRecord> readEpisodeCsv(const std::string& path) {
     if (line.empty()) continue;
     const auto fields = splitCsvLine(line);
     const std::string where = path + ":" + std::to_string(line_number) + ": ";
-    if (static_cast<int>(fields.size()) != kCsvColumns) {
-      throw InvalidArgumentError(where + "expected " + std::to_string(kCsvColumns) +
+    if (fields.size() != columns.size()) {
+      throw InvalidArgumentError(where + "expected " + std::to_string(columns.size()) +
                                  " columns, got " + std::to_string(fields.size()));
+    }
+    if (completed_column != columns.end() && fields[completed_column - columns.begin()] != "1") {
+      throw InvalidArgumentError(where +
+                                 "the episode was cut short (completed is not 1); run it again "
+                                 "before summarising");
     }
     EpisodeRecord record;
     try {

@@ -61,6 +61,33 @@ TEST(EpisodeCsv, RoundTripsEveryField) {
   EXPECT_THROW(writeEpisodeCsvRow(sink, bad), InvalidArgumentError);
 }
 
+TEST(Summary, ReadsAgentNodeCsvsAndRefusesCutShortEpisodes) {
+  // An agent node's CSV: our nine columns, then completed, message and the camera path.
+  const std::string path = ::testing::TempDir() + "/agent_node_episodes.csv";
+  const std::string header = episodeCsvHeader() + ",completed,message,azimuths_rad,elevations_rad";
+  std::ofstream(path) << header << "\n"
+                      << "gradient,ros,7,0,50,2,1,0,0.01,1,,0;0.05;0.1,0;0;0\n";
+  const auto loaded = readEpisodeCsv(path);
+  ASSERT_EQ(loaded.size(), 1u);
+  EXPECT_EQ(loaded[0].agent, "gradient");
+  EXPECT_EQ(loaded[0].scene_seed, 7u);
+  EXPECT_EQ(loaded[0].steps, 2);
+  EXPECT_TRUE(loaded[0].success);
+
+  std::ofstream(path, std::ios::app) << "gradient,ros,8,0,50,3,0,12,0.01,0,lost the simulator: "
+                                        "step failed,0;0.05;0.1;0.15,0;0;0;0\n";
+  try {
+    readEpisodeCsv(path);
+    ADD_FAILURE() << "a cut-short episode was accepted";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_NE(std::string(error.what()).find(":3:"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("cut short"), std::string::npos) << error.what();
+  }
+  std::ofstream(path) << episodeCsvHeader() << "X\n";
+  EXPECT_THROW(readEpisodeCsv(path), InvalidArgumentError);
+  std::remove(path.c_str());
+}
+
 TEST(Summary, CountsFailuresWithTheStepLimit) {
   const auto summaries = summarizeAgents(syntheticRecords());
   ASSERT_EQ(summaries.size(), 2u);
