@@ -23,6 +23,8 @@ packages=(
   libyaml-cpp-dev
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
+  # libFuzzer on the parsers (test/fuzz)
+  clang libclang-rt-14-dev
   # objects: Sweet Home 3D furniture (our ShapeNet substitute), statistics engine
   sweethome3d-furniture jags
   # evaluation plots (scripts/plot_evaluation.py)

@@ -29,7 +29,9 @@ void appendUtf8(std::string& out, std::uint32_t code_point) {
   }
 }
 
+// Strict UTF-8: no overlong forms, no surrogates, nothing above U+10FFFF.
 bool isValidUtf8(std::string_view text) {
+  constexpr std::uint32_t kSmallest[] = {0, 0x80, 0x800, 0x10000};  // by continuation bytes
   for (std::size_t i = 0; i < text.size();) {
     const auto byte = static_cast<unsigned char>(text[i]);
     const int extra = byte < 0x80           ? 0
@@ -38,8 +40,16 @@ bool isValidUtf8(std::string_view text) {
                       : (byte >> 3) == 0x1E ? 3
                                             : -1;
     if (extra < 0 || i + extra >= text.size()) return false;
-    for (int k = 1; k <= extra; ++k)
-      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return false;
+    std::uint32_t code_point = extra == 0 ? byte : byte & (0x3F >> extra);
+    for (int k = 1; k <= extra; ++k) {
+      const auto continuation = static_cast<unsigned char>(text[i + k]);
+      if ((continuation & 0xC0) != 0x80) return false;
+      code_point = (code_point << 6) | (continuation & 0x3F);
+    }
+    if (code_point < kSmallest[extra] || code_point > 0x10FFFF ||
+        (code_point >= 0xD800 && code_point < 0xE000)) {
+      return false;
+    }
     i += 1 + extra;
   }
   return true;
@@ -100,18 +110,27 @@ int hexValue(char c) {
   return -1;
 }
 
-// Resolves the escapes of `raw` (one key or value).
+// Resolves the escapes of `raw` (one key or value). \uXXXX escapes are UTF-16 code units: a
+// high surrogate followed by a low one makes one code point; an unpaired surrogate becomes
+// U+FFFD, the replacement character, so the result is always valid UTF-8.
 std::string unescape(std::string_view raw, int line_number) {
+  constexpr std::uint32_t kReplacementCharacter = 0xFFFD;
   std::string out;
   out.reserve(raw.size());
   std::uint32_t pending_high_surrogate = 0;
+  const auto flushPendingSurrogate = [&] {
+    if (pending_high_surrogate != 0) appendUtf8(out, kReplacementCharacter);
+    pending_high_surrogate = 0;
+  };
   for (std::size_t i = 0; i < raw.size(); ++i) {
     if (raw[i] != '\\' || i + 1 == raw.size()) {
+      flushPendingSurrogate();
       out += raw[i];
       continue;
     }
     const char c = raw[++i];
     if (c != 'u') {
+      flushPendingSurrogate();
       out += c == 't' ? '\t' : c == 'n' ? '\n' : c == 'r' ? '\r' : c == 'f' ? '\f' : c;
       continue;
     }
@@ -124,14 +143,19 @@ std::string unescape(std::string_view raw, int line_number) {
     }
     i += 4;
     if (unit >= 0xD800 && unit < 0xDC00) {  // high surrogate: wait for the low one
+      flushPendingSurrogate();
       pending_high_surrogate = unit;
-      continue;
+    } else if (unit >= 0xDC00 && unit < 0xE000) {  // low surrogate: completes a pair, or stray
+      appendUtf8(out, pending_high_surrogate != 0
+                          ? 0x10000 + ((pending_high_surrogate - 0xD800) << 10) + (unit - 0xDC00)
+                          : kReplacementCharacter);
+      pending_high_surrogate = 0;
+    } else {
+      flushPendingSurrogate();
+      appendUtf8(out, unit);
     }
-    if (unit >= 0xDC00 && unit < 0xE000 && pending_high_surrogate != 0)
-      unit = 0x10000 + ((pending_high_surrogate - 0xD800) << 10) + (unit - 0xDC00);
-    pending_high_surrogate = 0;
-    appendUtf8(out, unit);
   }
+  flushPendingSurrogate();
   return out;
 }
 

@@ -106,6 +106,23 @@ TEST(JavaPropertiesTest, KeepsUtf8AndRejectsMalformedUnicodeEscape) {
                                       "line 2");
 }
 
+// Found by test/fuzz/java_properties_fuzzer: the result must be valid UTF-8 whatever the input.
+TEST(JavaPropertiesTest, UnpairedSurrogatesAndInvalidUtf8GiveValidUtf8) {
+  // A surrogate pair makes one code point (U+1F600); unpaired halves become U+FFFD.
+  EXPECT_EQ(detail::parseJavaProperties("a=\\uD83D\\uDE00").at("a"), "\xF0\x9F\x98\x80");
+  EXPECT_EQ(detail::parseJavaProperties("a=x\\uD800y").at("a"), "x\xEF\xBF\xBDy");
+  EXPECT_EQ(detail::parseJavaProperties("a=\\uDE00").at("a"), "\xEF\xBF\xBD");
+  EXPECT_EQ(detail::parseJavaProperties("a=\\uD800\\uD83D\\uDE00").at("a"),
+            "\xEF\xBF\xBD\xF0\x9F\x98\x80");
+  EXPECT_EQ(detail::parseJavaProperties("a=\\uD800").at("a"), "\xEF\xBF\xBD");
+  // Bytes that are not strict UTF-8 (an encoded surrogate, an overlong '/', a lead byte beyond
+  // U+10FFFF) make the text ISO-8859-1: each byte its own character.
+  EXPECT_EQ(detail::parseJavaProperties("a=\xED\xA0\x80").at("a"), "\xC3\xAD\xC2\xA0\xC2\x80");
+  EXPECT_EQ(detail::parseJavaProperties("a=\xC0\xAF").at("a"), "\xC3\x80\xC2\xAF");
+  EXPECT_EQ(detail::parseJavaProperties("a=\xF5\x80\x80\x80").at("a"),
+            "\xC3\xB5\xC2\x80\xC2\x80\xC2\x80");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Debian's Sweet Home 3D furniture (package sweethome3d-furniture)
 // ---------------------------------------------------------------------------------------------
