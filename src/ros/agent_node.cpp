@@ -366,10 +366,20 @@ void AgentNode::logSummary() const {
                                  << reports_.size() - completed << " cut short");
 }
 
+const std::vector<std::string>& agentNodeParameterNames() {
+  static const std::vector<std::string> kNames = {
+      "seeds",           "scene_set", "seed",       "episodes", "max_steps",       "start_azimuth",
+      "start_elevation", "preset",    "categories", "csv",      "service_timeout", "step_rate"};
+  return kNames;
+}
+
 int runAgentNodeMain(int argc, char** argv, const std::string& agent) {
   ros::init(argc, argv, agent + "_agent");
   ros::NodeHandle private_node("~");
   ros::NodeHandle node(names::kNamespace);
+  for (const std::string& name : unknownParameters(private_node, agentNodeParameterNames())) {
+    ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
+  }
   try {
     AgentNode agent_node(readAgentNodeOptions(private_node, agent), node, private_node);
     agent_node.run();

@@ -272,10 +272,14 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
 }
 
 std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node) {
+  return unknownParameters(private_node, simulatorParameterNames());
+}
+
+std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
+                                           const std::vector<std::string>& known) {
   std::vector<std::string> all_names;
   if (!private_node.getParamNames(all_names)) return {};
   const std::string prefix = private_node.getNamespace() + "/";
-  const std::vector<std::string>& known = simulatorParameterNames();
   std::vector<std::string> unknown;
   for (const std::string& full_name : all_names) {
     if (full_name.compare(0, prefix.size(), prefix) != 0) continue;

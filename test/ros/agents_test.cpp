@@ -6,6 +6,7 @@
 #include <string>
 
 #include "agent_test_support.hpp"
+#include "occlusion_env/ros/agent_node.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -65,6 +66,62 @@ TEST(AgentNodes, GradientAgentRunsEveryEpisodeAsInProcess) {
   int successes = 0;
   for (const CsvEpisode& episode : testing_support::readAgentCsv(csv)) successes += episode.success;
   EXPECT_GE(successes, 3);
+}
+
+// ParameterError naming `name` when the parameters of `node` are read.
+void expectParameterError(const ros::NodeHandle& node, const std::string& name) {
+  try {
+    readAgentNodeOptions(node, "random");
+    ADD_FAILURE() << "accepted a bad " << name;
+  } catch (const ParameterError& error) {
+    EXPECT_NE(std::string(error.what()).find(name), std::string::npos) << error.what();
+  }
+}
+
+TEST(AgentNodes, ParametersAreValidatedWithTheirNames) {
+  ros::NodeHandle node("/agent_parameter_test");
+  node.setParam("seed", 5);
+  node.setParam("episodes", 3);
+  AgentNodeOptions options = readAgentNodeOptions(node, "gradient");
+  EXPECT_EQ(options.seeds, (std::vector<std::uint64_t>{5, 6, 7}));
+  EXPECT_EQ(options.agent, "gradient");
+  EXPECT_FALSE(options.set_start_azimuth);
+
+  std::string scene_set;
+  ASSERT_TRUE(ros::NodeHandle("~").getParam("scene_set_file", scene_set));
+  node.setParam("scene_set", scene_set);
+  options = readAgentNodeOptions(node, "random");
+  EXPECT_EQ(options.scene_set_name, "test_embedded");
+  EXPECT_EQ(options.seeds.size(), 50u);
+  EXPECT_EQ(options.seeds.front(), 1000000u);
+  EXPECT_TRUE(options.set_start_azimuth);
+  node.setParam("seeds", std::vector<int>{9, 8});  // a list wins over the scene set
+  EXPECT_EQ(readAgentNodeOptions(node, "random").seeds, (std::vector<std::uint64_t>{9, 8}));
+
+  node.setParam("max_steps", 0);
+  expectParameterError(node, "max_steps");
+  node.setParam("max_steps", 10);
+  node.setParam("seeds", std::string("1, 2"));
+  expectParameterError(node, "seeds");
+  node.setParam("seeds", std::vector<int>{1, -2});
+  expectParameterError(node, "seeds");
+  node.deleteParam("seeds");
+  node.setParam("scene_set", std::string("/nonexistent/set.yaml"));
+  expectParameterError(node, "scene_set");
+  node.deleteParam("scene_set");
+  node.setParam("step_rate", -1.0);
+  expectParameterError(node, "step_rate");
+  node.setParam("step_rate", 0.0);
+  node.setParam("episodes", 0);
+  expectParameterError(node, "episodes");
+  EXPECT_THROW(readAgentNodeOptions(ros::NodeHandle("/agent_parameter_test_empty"), "ppo"),
+               ParameterError);
+
+  node.setParam("episodes", 2);
+  node.setParam("max_step", 10);
+  EXPECT_EQ(unknownParameters(node, agentNodeParameterNames()),
+            std::vector<std::string>{"max_step"});
+  ros::param::del("/agent_parameter_test");
 }
 
 }  // namespace

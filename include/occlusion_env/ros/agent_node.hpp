@@ -46,6 +46,9 @@ struct AgentNodeOptions {
 AgentNodeOptions readAgentNodeOptions(const ros::NodeHandle& private_node,
                                       const std::string& agent);
 
+/// Every parameter name readAgentNodeOptions() reads, relative to the private namespace.
+const std::vector<std::string>& agentNodeParameterNames();
+
 /// Names of the agents an agent node can run.
 const std::vector<std::string>& agentNodeAgents();
 

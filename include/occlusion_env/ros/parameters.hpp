@@ -66,6 +66,10 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node);
 /// usually typos.
 std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node);
 
+/// Names (relative to `private_node`) of parameters set there that are not in `known`.
+std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
+                                           const std::vector<std::string>& known);
+
 /// Every parameter name readSimulatorOptions() reads, relative to the private namespace.
 const std::vector<std::string>& simulatorParameterNames();
 
