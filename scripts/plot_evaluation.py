@@ -125,6 +125,56 @@ def plot_sweep(sweep_csv, out_dir):
     return [path]
 
 
+def plot_landscape(landscape_csv, paths_csv, out_dir):
+    """L over the camera angles, the unoccluded region outlined, each agent's path on top."""
+    import numpy as np
+    from matplotlib.colors import PowerNorm
+
+    rows = read_rows(landscape_csv)
+    azimuths = sorted({float(r["azimuth_rad"]) for r in rows})
+    elevations = sorted({float(r["elevation_rad"]) for r in rows})
+    a_index = {a: i for i, a in enumerate(azimuths)}
+    e_index = {e: i for i, e in enumerate(elevations)}
+    occlusion = np.zeros((len(elevations), len(azimuths)))
+    for r in rows:
+        occlusion[e_index[float(r["elevation_rad"])], a_index[float(r["azimuth_rad"])]] = \
+            float(r["occlusion_px"])
+    a_deg = np.degrees(azimuths)
+    e_deg = np.degrees(elevations)
+
+    fig, ax = plt.subplots(figsize=(7.2, 4.8))
+    mesh = ax.pcolormesh(a_deg, e_deg, occlusion, shading="nearest", cmap="magma",
+                         norm=PowerNorm(0.4, vmin=0, vmax=max(1.0, occlusion.max())))
+    fig.colorbar(mesh, ax=ax, label="occlusion L [px]")
+    if (occlusion == 0).any() and (occlusion > 0).any():
+        ax.contour(a_deg, e_deg, (occlusion == 0).astype(float), levels=[0.5],
+                   colors="cyan", linewidths=1.0)
+    paths = by_agent(read_rows(paths_csv))
+    colours = ["#4fc3f7", "#ffffff", "#a5d6a7", "#ffcc80"]
+    for k, (agent, agent_rows) in enumerate(paths.items()):
+        agent_rows.sort(key=lambda r: int(r["t"]))
+        x = [math.degrees(float(r["azimuth_rad"])) for r in agent_rows]
+        y = [math.degrees(float(r["elevation_rad"])) for r in agent_rows]
+        colour = colours[k % len(colours)]
+        success = agent_rows[0]["success"] == "1"
+        steps = agent_rows[0]["steps"]
+        ax.plot(x, y, "-", color=colour, linewidth=1.4, marker=".", markersize=3,
+                label=f"{agent}: {steps} steps, {'unoccluded' if success else 'failed'}")
+        ax.plot(x[0], y[0], "o", color=colour, markersize=7, markeredgecolor="black")
+        ax.plot(x[-1], y[-1], "*" if success else "X", color=colour, markersize=12,
+                markeredgecolor="black")
+    ax.set_xlabel("azimuth [deg]")
+    ax.set_ylabel("elevation [deg]")
+    ax.set_title("Occlusion over the camera angles, and each agent's path")
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    stem = os.path.splitext(os.path.basename(landscape_csv))[0]
+    path = os.path.join(out_dir, f"{stem}.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", required=True)
@@ -133,6 +183,8 @@ def main():
     parser.add_argument("--posterior")
     parser.add_argument("--comparisons")
     parser.add_argument("--sweep", action="append", default=[])
+    parser.add_argument("--landscape", help="CSV of occlusion over camera angles")
+    parser.add_argument("--paths", help="CSV of the agents' paths on the landscape")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     written = []
@@ -142,6 +194,8 @@ def main():
         written += plot_posteriors(args.posterior, args.comparisons, args.out, args.prefix)
     for sweep in args.sweep:
         written += plot_sweep(sweep, args.out)
+    if args.landscape and args.paths:
+        written += plot_landscape(args.landscape, args.paths, args.out)
     for path in written:
         print(path)
 

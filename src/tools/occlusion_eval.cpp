@@ -19,6 +19,7 @@
 #include "occlusion_env/core/errors.hpp"
 #include "occlusion_env/eval/best.hpp"
 #include "occlusion_env/eval/evaluation.hpp"
+#include "occlusion_env/eval/landscape.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/scene_set.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -36,6 +37,8 @@ modes (one):
   --scenes FILE        run the agents on a scene set (config/scenes/*.yaml)
   --sweep PRESET       start-azimuth sweep of two_chairs | two_tables (Figure 5)
   --summarize CSV      summary and plots from an episode CSV of an earlier run
+  --landscape FILE     occlusion L over the camera angles of the set's first scene, with each
+                       agent's path on it (CSV and plot)
   --all                both held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
                        with RESULTS.md in --out (and the --report document)
 options:
@@ -57,6 +60,7 @@ struct CommandLine {
   std::string scenes;
   std::string sweep;
   std::string summarize;
+  std::string landscape;
   bool all = false;
   std::vector<std::string> agents = {"random", "gradient"};
   int max_steps = -1;  // -1: the mode's default
@@ -94,6 +98,8 @@ CommandLine parse(int argc, char** argv) {
       cl.sweep = value(i);
     } else if (arg == "--summarize") {
       cl.summarize = value(i);
+    } else if (arg == "--landscape") {
+      cl.landscape = value(i);
     } else if (arg == "--all") {
       cl.all = true;
     } else if (arg == "--agents") {
@@ -125,9 +131,12 @@ CommandLine parse(int argc, char** argv) {
       throw InvalidArgumentError("unknown argument " + quoted(arg));
     }
   }
-  const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() + cl.all;
-  if (modes != 1)
-    throw InvalidArgumentError("give exactly one of --scenes, --sweep, --summarize, --all");
+  const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() +
+                    !cl.landscape.empty() + cl.all;
+  if (modes != 1) {
+    throw InvalidArgumentError(
+        "give exactly one of --scenes, --sweep, --summarize, --landscape, --all");
+  }
   if (cl.agents.empty()) throw InvalidArgumentError("--agents: no agent named");
   if (!cl.report.empty() && !cl.all) throw InvalidArgumentError("--report needs --all");
   if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
@@ -238,6 +247,52 @@ std::string runSweep(const CommandLine& cl, const std::string& preset) {
   return md.str();
 }
 
+// Each agent's episode on the set's first scene, and L over a grid of camera angles around their
+// paths (CSV, plot). Returns the Markdown section.
+std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) {
+  const SceneSet set = loadSceneSet(scenes_path);
+  if (set.seeds.empty()) throw InvalidArgumentError(scenes_path + ": no seeds");
+  const std::uint64_t seed = set.seeds.front();
+  const int max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  Environment env(environmentOptionsFor(set));
+  const AgentRegistry registry = AgentRegistry::withBuiltinAgents();
+  std::vector<AgentPath> paths;
+  for (const std::string& name : cl.agents) {
+    const std::unique_ptr<Agent> agent = registry.make(name, env);
+    paths.push_back({name, runEpisode(env, *agent, seed, resetOptionsFor(set), max_steps)});
+  }
+  env.reset(seed, resetOptionsFor(set));
+  const LandscapeGrid grid = gridAround(paths, /*margin_rad=*/0.15, /*min_half_width_rad=*/0.6,
+                                        /*spacing_rad=*/0.025, env.camera().elevationLimit());
+  const std::string stem = set.name + "_landscape_" + std::to_string(seed);
+  const std::string landscape_csv = (fs::path(cl.out) / (stem + ".csv")).string();
+  const std::string paths_csv = (fs::path(cl.out) / (stem + "_paths.csv")).string();
+  std::cerr << "occlusion_eval: occlusion landscape of scene " << seed << "...\n";
+  const int poses = writeOcclusionLandscapeCsv(env, grid, landscape_csv);
+  writeEpisodePathsCsv(paths, paths_csv);
+  std::cerr << "occlusion_eval: wrote " << landscape_csv << " (" << poses << " views)\n";
+  runPlots(cl, {"--landscape", landscape_csv, "--paths", paths_csv});
+  std::cerr << "occlusion_eval: wrote " << landscape_csv << " (" << poses << " views)\n";
+
+  std::ostringstream md;
+  md << "## One scene from above: occlusion over the camera angles\n\n"
+     << "Scene " << seed << " of `" << set.name << "`: the total occlusion L [px] seen from "
+     << poses << " camera poses on a " << grid.spacing_rad
+     << " rad grid around the start view (dark: none; the cyan line is the border between occluded "
+        "and "
+        "unoccluded views, L = 0 being the goal), and the path each agent took from the start "
+        "(circle) to its last "
+        "view (star: unoccluded; cross: still occluded after "
+     << max_steps << " steps).";
+  for (const AgentPath& path : paths) {
+    md << " " << path.agent << ": " << path.episode.steps << " steps, "
+       << (path.episode.success ? "unoccluded." : "failed.");
+  }
+  md << "\n\n";
+  if (cl.plots) md << "![occlusion landscape](" << stem << ".png)\n";
+  return md.str();
+}
+
 // The evaluation report's fixed text: what was run and how to read it. The numbers follow it.
 std::string reportIntroduction(const CommandLine& cl) {
   std::ostringstream text;
@@ -296,6 +351,7 @@ void runAll(const CommandLine& cl) {
     sections += "## Held-out scene set `" + std::string(set) + "`\n" +
                 summary.substr(summary.find('\n') + 1) + "\n";
   }
+  sections += runLandscape(cl, cl.source_dir + "/config/scenes/test_embedded.yaml") + "\n";
   for (const char* preset : {"two_chairs", "two_tables"}) {
     CommandLine sweep_cl = cl;
     sweep_cl.max_steps = cl.max_steps > 0 && cl.max_steps != 50 ? cl.max_steps : -1;
@@ -330,6 +386,9 @@ int main(int argc, char** argv) {
     } else if (!cl.sweep.empty()) {
       const std::string markdown = runSweep(cl, cl.sweep);
       std::ofstream(fs::path(cl.out) / ("sweep_" + cl.sweep + ".md")) << markdown;
+    } else if (!cl.landscape.empty()) {
+      const std::string markdown = runLandscape(cl, cl.landscape);
+      std::ofstream(fs::path(cl.out) / "landscape.md") << markdown;
     } else if (!cl.summarize.empty()) {
       const auto records = readEpisodeCsv(cl.summarize);
       if (records.empty()) throw InvalidArgumentError(cl.summarize + " holds no episodes");

@@ -1,0 +1,45 @@
+// The occlusion L over a grid of camera angles around a scene's start view, with the paths the
+// agents take on it: a picture of the search space the agents move through.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "occlusion_env/core/agent.hpp"
+#include "occlusion_env/core/environment.hpp"
+
+namespace occlusion_env {
+namespace eval {
+
+/// Camera angles [rad] at which L is sampled: a regular grid, both ends included.
+struct LandscapeGrid {
+  double azimuth_min_rad = -1.0;
+  double azimuth_max_rad = 1.0;
+  double elevation_min_rad = -0.5;
+  double elevation_max_rad = 0.5;
+  double spacing_rad = 0.025;
+};
+
+/// Writes `azimuth_rad,elevation_rad,occlusion_px` for every grid pose of `env`'s current scene
+/// (Environment::renderAt: the episode is not changed). Returns the number of poses. Throws
+/// InvalidArgumentError for an empty or too fine grid (more than 100,000 poses) or no episode.
+int writeOcclusionLandscapeCsv(Environment& env, const LandscapeGrid& grid,
+                               const std::string& path);
+
+/// One agent's episode as camera angles, for writeEpisodePathsCsv.
+struct AgentPath {
+  std::string agent;
+  EpisodeResult episode;
+};
+
+/// Writes `agent,success,steps,t,azimuth_rad,elevation_rad`, one row per pose of each path.
+void writeEpisodePathsCsv(const std::vector<AgentPath>& paths, const std::string& path);
+
+/// The grid around `paths` (all poses inside, with `margin_rad` to spare on each side, at least
+/// +/- `min_half_width_rad` around the first path's start) at `spacing_rad`, elevations within
+/// +/- `elevation_limit_rad`.
+LandscapeGrid gridAround(const std::vector<AgentPath>& paths, double margin_rad,
+                         double min_half_width_rad, double spacing_rad, double elevation_limit_rad);
+
+}  // namespace eval
+}  // namespace occlusion_env
