@@ -118,12 +118,13 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       placeScene(candidate);
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
-      OcclusionStats occlusion = computeOcclusion(probe_buffers_.amodal_bits, num_objects);
+      OcclusionStats occlusion =
+          computeOcclusion(probe_buffers_.amodal_bits, num_objects, probe_buffers_.footprint);
       if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
       std::swap(buffers_, probe_buffers_);
-      computeOcclusion(buffers_.amodal_bits, num_objects, &observation_.occlusion_mask);
+      countOcclusion(num_objects);
       observation_.rgb = buffers_.rgb;
       observation_.depth = buffers_.depth;
       observation_.instance = buffers_.instance;
@@ -195,8 +196,16 @@ StepResult Environment::step(const Action& action) {
 
 void Environment::renderCurrent() {
   renderer_->render(info_.world_from_optical, buffers_);
-  info_.occlusion = computeOcclusion(buffers_.amodal_bits, static_cast<int>(scene_.objects.size()),
-                                     &observation_.occlusion_mask);
+  info_.occlusion = countOcclusion(static_cast<int>(scene_.objects.size()));
+}
+
+OcclusionStats Environment::countOcclusion(int num_objects) {
+  // Silhouettes lie inside the footprint; the mask's last non-zero pixels inside the last one.
+  const cv::Rect region = buffers_.footprint | occlusion_mask_region_;
+  OcclusionStats occlusion =
+      computeOcclusion(buffers_.amodal_bits, num_objects, region, &observation_.occlusion_mask);
+  occlusion_mask_region_ = buffers_.footprint;
+  return occlusion;
 }
 
 const RenderBuffers& Environment::renderAt(const SphericalPose& pose) {

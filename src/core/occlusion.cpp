@@ -10,6 +10,12 @@ namespace occlusion_env {
 
 OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects,
                                 cv::Mat* occlusion_mask) {
+  return computeOcclusion(amodal_bits, num_objects, cv::Rect(cv::Point(), amodal_bits.size()),
+                          occlusion_mask);
+}
+
+OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects, cv::Rect region,
+                                cv::Mat* occlusion_mask) {
   if (amodal_bits.type() != CV_8UC1) {
     throw InvalidArgumentError("computeOcclusion: amodal bits must be CV_8UC1");
   }
@@ -18,22 +24,45 @@ OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects,
                                std::to_string(num_objects));
   }
   const std::uint8_t object_mask = static_cast<std::uint8_t>((1u << num_objects) - 1u);
-  if (occlusion_mask) occlusion_mask->create(amodal_bits.size(), CV_8UC1);
+  region &= cv::Rect(cv::Point(), amodal_bits.size());
+  if (occlusion_mask) {
+    const bool reused = occlusion_mask->data != nullptr && occlusion_mask->type() == CV_8UC1 &&
+                        occlusion_mask->size() == amodal_bits.size();
+    if (!reused) {
+      occlusion_mask->create(amodal_bits.size(), CV_8UC1);
+      occlusion_mask->setTo(0);  // what `region` leaves out
+    }
+  }
 
-  // One pass builds a histogram of bit patterns; every figure follows from its 256 bins.
+  // One pass builds a histogram of bit patterns; every figure follows from its 256 bins. Patterns
+  // come in runs along a row: counting whole runs keeps the increments off the critical path.
   std::array<std::int64_t, 256> pattern_count{};
-  for (int row = 0; row < amodal_bits.rows; ++row) {
-    const std::uint8_t* bits = amodal_bits.ptr<std::uint8_t>(row);
-    std::uint8_t* mask = occlusion_mask ? occlusion_mask->ptr<std::uint8_t>(row) : nullptr;
-    for (int col = 0; col < amodal_bits.cols; ++col) {
+  for (int row = region.y; row < region.y + region.height; ++row) {
+    const std::uint8_t* bits = amodal_bits.ptr<std::uint8_t>(row) + region.x;
+    std::uint8_t run_pattern = 0;
+    int run_length = 0;
+    for (int col = 0; col < region.width; ++col) {
       const std::uint8_t pattern = bits[col] & object_mask;
-      ++pattern_count[pattern];
-      // Two or more bits set: clearing the lowest one leaves something.
-      if (mask) mask[col] = (pattern & (pattern - 1)) ? 255 : 0;
+      if (pattern != run_pattern) {
+        pattern_count[run_pattern] += run_length;
+        run_pattern = pattern;
+        run_length = 0;
+      }
+      ++run_length;
+    }
+    pattern_count[run_pattern] += run_length;
+    if (occlusion_mask) {
+      std::uint8_t* mask = occlusion_mask->ptr<std::uint8_t>(row) + region.x;
+      for (int col = 0; col < region.width; ++col) {
+        const std::uint8_t pattern = bits[col] & object_mask;
+        // Two or more bits set: clearing the lowest one leaves something.
+        mask[col] = (pattern & (pattern - 1)) ? 255 : 0;
+      }
     }
   }
 
   OcclusionStats stats;
+  stats.pairs.reserve(num_objects * (num_objects - 1) / 2);
   for (int i = 0; i < num_objects; ++i) {
     for (int j = i + 1; j < num_objects; ++j) stats.pairs.push_back({i, j, 0});
   }

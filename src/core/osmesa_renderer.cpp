@@ -150,11 +150,23 @@ Eigen::Matrix4d clipFromOptical(const CameraIntrinsics& k) {
   return m;
 }
 
-// (Re)allocates `mat` unless it already is a continuous rows x cols matrix of `type`.
-void ensureMat(cv::Mat& mat, int rows, int cols, int type) {
-  if (mat.rows != rows || mat.cols != cols || mat.type() != type || !mat.isContinuous()) {
-    mat.release();
-    mat.create(rows, cols, type);
+// (Re)allocates `mat` unless it already is a continuous rows x cols matrix of `type`; true when it
+// did, i.e. when the pixels hold nothing yet.
+bool ensureMat(cv::Mat& mat, int rows, int cols, int type) {
+  if (mat.rows == rows && mat.cols == cols && mat.type() == type && mat.isContinuous()) {
+    return false;
+  }
+  mat.release();
+  mat.create(rows, cols, type);
+  return true;
+}
+
+// Sets the pixels of `rect` in `mat` to `value` (one per channel, of `mat`'s depth).
+template <typename Pixel>
+void fillRect(cv::Mat& mat, const cv::Rect& rect, Pixel value) {
+  for (int row = rect.y; row < rect.y + rect.height; ++row) {
+    Pixel* first = mat.ptr<Pixel>(row) + rect.x;
+    std::fill(first, first + rect.width, value);
   }
 }
 
@@ -396,6 +408,12 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
     const PixelRect rect = footprint(mesh, optical_from_object);
     footprints_[i] = rect;
     if (rect.width == 0) continue;
+    // The other targets would only receive +inf, a no-op under GL_MIN: masking them spares
+    // llvmpipe their per-fragment blending. The clear below obeys the mask too.
+    for (int target = 0; target < num_objects_; ++target) {
+      const GLboolean on = target == i ? GL_TRUE : GL_FALSE;
+      glColorMaski(target, on, on, on, on);
+    }
     glScissor(rect.x, rect.y, rect.width, rect.height);
     glClearBufferfv(GL_COLOR, i, kInfs);
     const Eigen::Matrix4f clip_from_object =
@@ -414,30 +432,43 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
 
 void OsMesaRenderer::readBack(RenderBuffers& out) {
   const int width = intrinsics_.width, height = intrinsics_.height;
-  ensureMat(out.rgb, height, width, CV_8UC3);
-  ensureMat(out.instance, height, width, CV_8UC1);
-  ensureMat(out.depth, height, width, CV_32FC1);
-  ensureMat(out.amodal_bits, height, width, CV_8UC1);
+  const cv::Rect image(0, 0, width, height);
+  // Outside out.footprint the images still hold the background from the last render into them,
+  // unless they are new: then nothing is known.
+  bool allocated = false;
+  allocated |= ensureMat(out.rgb, height, width, CV_8UC3);
+  allocated |= ensureMat(out.instance, height, width, CV_8UC1);
+  allocated |= ensureMat(out.depth, height, width, CV_32FC1);
+  allocated |= ensureMat(out.amodal_bits, height, width, CV_8UC1);
+  const cv::Rect stale = allocated ? image : out.footprint & image;
+  cv::Rect footprint;  // union of the objects' footprints [px]
+  for (int i = 0; i < num_objects_; ++i) {
+    const PixelRect& rect = footprints_[i];
+    footprint |= cv::Rect(rect.x, rect.y, rect.width, rect.height);
+  }
+  // Per-pixel work stays inside the footprints of this render and the last one: the rest of every
+  // image already is background.
+  const cv::Rect dirty = stale | footprint;
+  fillRect(out.depth, dirty, kNaN);  // REP 118: nothing hit
+  fillRect(out.rgb, dirty, cv::Vec3b(0, 0, 0));
+  fillRect(out.instance, dirty, std::uint8_t{0});
+  fillRect(out.amodal_bits, dirty, std::uint8_t{0});
   if (out.object_depth.size() != static_cast<std::size_t>(num_objects_)) {
     out.object_depth.resize(num_objects_);
   }
-  for (cv::Mat& depth : out.object_depth) ensureMat(depth, height, width, CV_32FC1);
-
-  const std::size_t num_pixels = static_cast<std::size_t>(width) * height;
-  float* nearest = reinterpret_cast<float*>(out.depth.data);  // +inf until the end
-  std::uint8_t* rgb = out.rgb.data;
-  std::uint8_t* instance = out.instance.data;
-  std::uint8_t* bits = out.amodal_bits.data;
-  std::fill(nearest, nearest + num_pixels, kInf);
-  std::fill(rgb, rgb + 3 * num_pixels, std::uint8_t{0});
-  std::fill(instance, instance + num_pixels, std::uint8_t{0});
-  std::fill(bits, bits + num_pixels, std::uint8_t{0});
+  for (cv::Mat& object_depth : out.object_depth) {
+    const bool is_new = ensureMat(object_depth, height, width, CV_32FC1);
+    fillRect(object_depth, is_new ? image : dirty, kInf);
+  }
 
   // Merge the targets one by one: each gives its object's depth, silhouette bit and, where it is
   // the nearest so far, the visible instance and colour.
+  float* nearest = reinterpret_cast<float*>(out.depth.data);  // NaN where nothing is hit yet
+  std::uint8_t* rgb = out.rgb.data;
+  std::uint8_t* instance = out.instance.data;
+  std::uint8_t* bits = out.amodal_bits.data;
   for (int i = 0; i < num_objects_; ++i) {
     float* object_depth = reinterpret_cast<float*>(out.object_depth[i].data);
-    std::fill(object_depth, object_depth + num_pixels, kInf);
     const PixelRect& rect = footprints_[i];
     if (rect.width == 0) continue;
     glReadBuffer(GL_COLOR_ATTACHMENT0 + i);
@@ -452,7 +483,8 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
         const std::size_t p = first + col;
         object_depth[p] = depth;
         bits[p] |= bit;
-        if (depth < nearest[p]) {
+        // True for the first hit (nearest is NaN) and for every nearer one after it.
+        if (!(nearest[p] <= depth)) {
           nearest[p] = depth;
           instance[p] = static_cast<std::uint8_t>(i + 1);
           for (int c = 0; c < 3; ++c) {
@@ -464,9 +496,7 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
       }
     }
   }
-  for (std::size_t p = 0; p < num_pixels; ++p) {
-    if (!(nearest[p] < kInf)) nearest[p] = kNaN;  // REP 118: nothing hit
-  }
+  out.footprint = footprint;
 }
 
 }  // namespace

@@ -58,6 +58,30 @@ TEST(OcclusionTest, NoOverlapIsZero) {
   EXPECT_EQ(stats.union_pixels, 2);
 }
 
+TEST(OcclusionTest, ARegionGivesTheSameFiguresAndLeavesTheMaskOutsideIt) {
+  cv::Mat bits(6, 7, CV_8UC1, cv::Scalar(0));
+  handMadeBits().copyTo(bits(cv::Rect(2, 1, 4, 4)));
+  cv::Mat whole_mask;
+  const OcclusionStats whole = computeOcclusion(bits, 3, &whole_mask);
+
+  cv::Mat mask;  // allocated here: 0 outside the region
+  const OcclusionStats inside = computeOcclusion(bits, 3, cv::Rect(1, 1, 5, 5), &mask);
+  EXPECT_EQ(inside.total_pixels, whole.total_pixels);
+  EXPECT_EQ(inside.occluded_area_pixels, whole.occluded_area_pixels);
+  EXPECT_EQ(inside.union_pixels, whole.union_pixels);
+  ASSERT_EQ(inside.pairs.size(), whole.pairs.size());
+  for (std::size_t p = 0; p < whole.pairs.size(); ++p) {
+    EXPECT_EQ(inside.pairs[p].pixels, whole.pairs[p].pixels);
+  }
+  EXPECT_EQ(cv::countNonZero(mask != whole_mask), 0);
+
+  // A reused mask keeps its pixels outside the region; a region beyond the image is clipped.
+  mask.at<std::uint8_t>(0, 0) = 7;
+  computeOcclusion(bits, 3, cv::Rect(1, 1, 50, 50), &mask);
+  EXPECT_EQ(mask.at<std::uint8_t>(0, 0), 7);
+  EXPECT_EQ(mask.at<std::uint8_t>(2, 3), 255);
+}
+
 TEST(OcclusionTest, RejectsBadInput) {
   EXPECT_THROW(computeOcclusion(cv::Mat(2, 2, CV_32FC1), 2), InvalidArgumentError);
   EXPECT_THROW(computeOcclusion(cv::Mat(2, 2, CV_8UC1), 0), InvalidArgumentError);

@@ -302,5 +302,54 @@ TEST(OsMesaRendererTest, RepeatedRendersAreBitIdenticalAndReuseBuffers) {
   }
 }
 
+// Renders reuse their buffers and rewrite only the footprints of this render and the last one:
+// the result must equal a render into fresh buffers, also when objects leave the view, cross the
+// near plane, or the scene's object count changes, and with two buffers used in turn.
+TEST(OsMesaRendererTest, ReusedBuffersMatchFreshOnesAsTheFootprintsChange) {
+  const auto renderer = makeOsMesaRenderer(testIntrinsics(96, 80));
+  const Mesh big = makeCube(0.5f);
+  const Mesh small = makeCube(0.15f);
+  const std::vector<PlacedMesh> three = {place(big, Eigen::Vector3d::Zero()),
+                                         place(small, Eigen::Vector3d(1.0, 0.4, 0.2)),
+                                         place(small, Eigen::Vector3d(-1.5, -1.2, 0.0))};
+  const std::vector<std::vector<PlacedMesh>> scenes = {
+      three, {three[0], three[1]}, three, {three[2]}, three};
+  const std::vector<Eigen::Isometry3d> poses = {
+      cameraOnPlusX(3.0),
+      lookAt(Eigen::Vector3d(3.0, 1.0, 1.0), Eigen::Vector3d::Zero()),
+      lookAt(Eigen::Vector3d(10.0, 0.0, 0.0), Eigen::Vector3d(4.0, 8.0, 0.0)),  // all beside
+      lookAt(Eigen::Vector3d(0.2, 0.1, 0.0), Eigen::Vector3d(-3.0, 0.0, 0.0)),  // inside the box
+      lookAt(Eigen::Vector3d(2.0, -2.0, 0.5), Eigen::Vector3d(0.0, -1.0, 0.0)),
+      cameraOnPlusX(6.0)};
+  RenderBuffers reused[2];
+  int renders = 0, empty_footprints = 0, whole_footprints = 0;
+  for (const std::vector<PlacedMesh>& scene : scenes) {
+    renderer->setScene(scene);
+    for (const Eigen::Isometry3d& pose : poses) {
+      RenderBuffers& out = reused[renders++ % 2];
+      renderer->render(pose, out);
+      RenderBuffers fresh;
+      renderer->render(pose, fresh);
+      EXPECT_EQ(out.footprint, fresh.footprint);
+      if (out.footprint.empty()) ++empty_footprints;
+      if (out.footprint == cv::Rect(0, 0, 96, 80)) ++whole_footprints;
+      EXPECT_TRUE(sameBytes(out.rgb, fresh.rgb)) << "render " << renders;
+      EXPECT_TRUE(sameBytes(out.depth, fresh.depth)) << "render " << renders;
+      EXPECT_TRUE(sameBytes(out.instance, fresh.instance)) << "render " << renders;
+      EXPECT_TRUE(sameBytes(out.amodal_bits, fresh.amodal_bits)) << "render " << renders;
+      ASSERT_EQ(out.object_depth.size(), scene.size());
+      for (std::size_t k = 0; k < scene.size(); ++k) {
+        EXPECT_TRUE(sameBytes(out.object_depth[k], fresh.object_depth[k])) << "render " << renders;
+      }
+      // Outside the footprint: background only.
+      cv::Mat outside(out.amodal_bits.size(), CV_8UC1, cv::Scalar(255));
+      outside(out.footprint).setTo(0);
+      EXPECT_EQ(cv::countNonZero(out.amodal_bits & outside), 0);
+    }
+  }
+  EXPECT_GT(empty_footprints, 0);
+  EXPECT_GT(whole_footprints, 0);
+}
+
 }  // namespace
 }  // namespace occlusion_env

@@ -123,6 +123,8 @@ class Environment {
  private:
   void placeScene(const Scene& scene);
   void renderCurrent();
+  /// Counts the occlusion in buffers_ and rewrites observation_.occlusion_mask to match.
+  OcclusionStats countOcclusion(int num_objects);
 
   EnvironmentOptions options_;
   SphericalCamera camera_;
@@ -133,6 +135,7 @@ class Environment {
   RenderBuffers buffers_;
   RenderBuffers probe_buffers_;
   Observation observation_;
+  cv::Rect occlusion_mask_region_;  // where observation_.occlusion_mask may be non-zero [px]
   StepInfo info_;
   bool has_episode_ = false;
   bool episode_over_ = false;

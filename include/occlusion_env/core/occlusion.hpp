@@ -33,4 +33,11 @@ struct OcclusionStats {
 OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects,
                                 cv::Mat* occlusion_mask = nullptr);
 
+/// The same figures, reading `amodal_bits` inside `region` only: outside it every object bit must
+/// be 0 (as outside RenderBuffers::footprint). `occlusion_mask` is written inside `region` only and
+/// keeps its other pixels (all 0 when it is allocated here): a caller reusing one mask passes a
+/// region that also covers the one of its last call.
+OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects, cv::Rect region,
+                                cv::Mat* occlusion_mask = nullptr);
+
 }  // namespace occlusion_env

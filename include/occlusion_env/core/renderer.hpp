@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
@@ -33,6 +34,12 @@ struct RenderBuffers {
   cv::Mat amodal_bits;  // CV_8UC1, bit k set where object k covers the pixel, hidden or not
   std::vector<cv::Mat> object_depth;  // per object, CV_32FC1: [m] of its front surface alone,
                                       // +inf where the object does not cover the pixel
+  /// The union of the objects' footprints in the last render [px]: outside it every image holds
+  /// the background (rgb 0, depth NaN, instance 0, amodal bits 0, object depths +inf), so per-pixel
+  /// work may stay inside. Unbounded until the first render. The renderer rewrites only these
+  /// pixels and those of the new footprint, so do not write into the images (clone them) and do
+  /// not render into two RenderBuffers that share pixels.
+  cv::Rect footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
 };
 
 class Renderer {
