@@ -2,7 +2,8 @@
 //   make bench            (or: .build_ws/devel/lib/occlusion_env/occlusion_bench)
 // Scenes: "embedded" = a seeded random scene of the embedded objects; "oak_chairs" = three copies
 // of Sweet Home 3D's Blend Swap oak chair (31,786 triangles each) in the paper's layout.
-// LOD 1 renders the level-of-detail meshes (5000 triangles per object), LOD 0 the full meshes.
+// LOD 1 renders the level-of-detail meshes (5000 triangles per object), LOD 0 the full meshes;
+// BM_StepLodBudget steps the oak chairs at other budgets.
 #include <benchmark/benchmark.h>
 
 #include <map>
@@ -22,31 +23,44 @@ constexpr std::size_t kLodBudget = 5000;
 enum SceneKind { kEmbedded = 0, kOakChairs = 1 };
 
 /// Libraries are shared between benchmarks so that mesh loading and simplification are paid once.
-std::shared_ptr<ObjectLibrary> sharedLibrary(SceneKind kind, bool lod) {
-  static std::map<std::pair<int, bool>, std::shared_ptr<ObjectLibrary>> libraries;
-  auto& library = libraries[{kind, lod}];
+std::shared_ptr<ObjectLibrary> sharedLibrary(SceneKind kind, std::size_t lod_budget) {
+  static std::map<std::pair<int, std::size_t>, std::shared_ptr<ObjectLibrary>> libraries;
+  auto& library = libraries[{kind, lod_budget}];
   if (!library) {
     CatalogOptions catalog;
     catalog.source = kind == kEmbedded ? "embedded" : "sweethome3d";
-    library = std::make_shared<ObjectLibrary>(makeCatalog(catalog), lod ? kLodBudget : 0);
+    library = std::make_shared<ObjectLibrary>(makeCatalog(catalog), lod_budget);
   }
   return library;
 }
 
 struct Setup {
+  SceneKind kind = kEmbedded;
   EnvironmentOptions options;
   ResetOptions reset;
 };
 
-Setup setupFor(const benchmark::State& state) {
+/// `lod_budget` triangles per object, 0 = full meshes.
+Setup setupFor(int size, SceneKind kind, std::size_t lod_budget) {
   Setup setup;
-  const auto kind = static_cast<SceneKind>(state.range(1));
-  setup.options.width = setup.options.height = static_cast<int>(state.range(0));
-  setup.options.lod_triangle_budget = state.range(2) ? kLodBudget : 0;
+  setup.kind = kind;
+  setup.options.width = setup.options.height = size;
+  setup.options.lod_triangle_budget = lod_budget;
   setup.options.max_steps = 1 << 30;  // stepping never truncates
   setup.options.catalog.source = kind == kEmbedded ? "embedded" : "sweethome3d";
   if (kind == kOakChairs) setup.reset.object_ids = {kOakChairId, kOakChairId, kOakChairId};
   return setup;
+}
+
+/// Arguments size, scene, lod (on = the default budget) of the scene benchmarks.
+Setup setupFor(const benchmark::State& state) {
+  return setupFor(static_cast<int>(state.range(0)), static_cast<SceneKind>(state.range(1)),
+                  state.range(2) ? kLodBudget : 0);
+}
+
+std::unique_ptr<Environment> makeEnvironment(const Setup& setup) {
+  return std::make_unique<Environment>(
+      setup.options, sharedLibrary(setup.kind, setup.options.lod_triangle_budget));
 }
 
 void labelFor(benchmark::State& state) {
@@ -54,12 +68,10 @@ void labelFor(benchmark::State& state) {
                  (state.range(2) ? " lod" : " full") + " " + std::to_string(state.range(0)) + "px");
 }
 
-void BM_Step(benchmark::State& state) {
-  const Setup setup = setupFor(state);
+void stepBenchmark(benchmark::State& state, const Setup& setup) {
   std::unique_ptr<Environment> env;
   try {
-    env = std::make_unique<Environment>(
-        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env = makeEnvironment(setup);
     env->reset(1, setup.reset);
   } catch (const std::exception& error) {
     state.SkipWithError(error.what());
@@ -74,15 +86,27 @@ void BM_Step(benchmark::State& state) {
     benchmark::DoNotOptimize(result.info.occlusion.total_pixels);
   }
   state.SetItemsProcessed(state.iterations());
+}
+
+void BM_Step(benchmark::State& state) {
+  stepBenchmark(state, setupFor(state));
   labelFor(state);
+}
+
+// The oak-chair scene at other LOD budgets (arguments size, budget; 0 = full meshes): the speed
+// side of the budget trade-off, whose silhouette side occlusion_lod_report measures.
+void BM_StepLodBudget(benchmark::State& state) {
+  stepBenchmark(state, setupFor(static_cast<int>(state.range(0)), kOakChairs,
+                                static_cast<std::size_t>(state.range(1))));
+  state.SetLabel("oak_chairs budget " + std::to_string(state.range(1)) + " " +
+                 std::to_string(state.range(0)) + "px");
 }
 
 void BM_Reset(benchmark::State& state) {
   const Setup setup = setupFor(state);
   std::unique_ptr<Environment> env;
   try {
-    env = std::make_unique<Environment>(
-        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env = makeEnvironment(setup);
     env->reset(0, setup.reset);  // warms the library's cache
   } catch (const std::exception& error) {
     state.SkipWithError(error.what());
@@ -109,8 +133,7 @@ void gradientBenchmark(benchmark::State& state, const char* method) {
   std::unique_ptr<Environment> env;
   std::unique_ptr<OcclusionGradient> gradient;
   try {
-    env = std::make_unique<Environment>(
-        setup.options, sharedLibrary(static_cast<SceneKind>(state.range(1)), state.range(2)));
+    env = makeEnvironment(setup);
     env->reset(1, setup.reset);
     gradient = makeOcclusionGradient(method);
   } catch (const std::exception& error) {
@@ -151,7 +174,17 @@ void sceneArguments(benchmark::internal::Benchmark* benchmark) {
   benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 }
 
+// Arguments: image size [px], LOD triangle budget per object (0 = full meshes).
+void budgetArguments(benchmark::internal::Benchmark* benchmark) {
+  benchmark->ArgNames({"size", "budget"});
+  for (int size : {128, 256}) {
+    for (int budget : {3000, 4000, 5000, 6000, 8000, 0}) benchmark->Args({size, budget});
+  }
+  benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+}
+
 BENCHMARK(BM_Step)->Apply(sceneArguments);
+BENCHMARK(BM_StepLodBudget)->Apply(budgetArguments);
 BENCHMARK(BM_Reset)->Apply(sceneArguments);
 BENCHMARK(BM_AnalyticGradient)->Apply(gradientArguments);
 BENCHMARK(BM_FiniteDifferenceGradient)->Apply(gradientArguments);

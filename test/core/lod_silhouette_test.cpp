@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "occlusion_env/core/camera.hpp"
+#include "occlusion_env/core/lod_quality.hpp"
 #include "occlusion_env/core/object_library.hpp"
 #include "occlusion_env/core/renderer.hpp"
 
@@ -14,25 +15,14 @@ namespace {
 constexpr double kMinIou = 0.98;
 constexpr std::size_t kLodBudget = 5000;  // the environment's default
 
-/// IoU of the object's silhouettes, full against LOD, seen from `pose`.
-double silhouetteIou(Renderer& renderer, const ObjectModel& model, const SphericalPose& pose,
-                     const SphericalCamera& camera, RenderBuffers& full, RenderBuffers& lod) {
-  const Eigen::Isometry3d world_from_optical = camera.worldFromOptical(pose);
-  renderer.setScene({{&model.full, Eigen::Isometry3d::Identity()}});
-  renderer.render(world_from_optical, full);
-  renderer.setScene({{&model.render, Eigen::Isometry3d::Identity()}});
-  renderer.render(world_from_optical, lod);
-  const cv::Mat a = full.amodal_bits != 0, b = lod.amodal_bits != 0;
-  const int intersection = cv::countNonZero(a & b), united = cv::countNonZero(a | b);
-  return united == 0 ? 1.0 : static_cast<double>(intersection) / united;
-}
-
 /// Checks every object of `category` ("" = all) from eight views; returns how many were checked.
 int checkCatalog(std::shared_ptr<const ObjectCatalog> catalog, const std::string& category) {
   ObjectLibrary library(catalog, kLodBudget);
-  // The object (unit diagonal) fills about half of the image: stricter than the environment's view.
+  // The object's diagonal (1) spans about half of the image. The worst IoU depends on this
+  // distance: BENCHMARKS.md ("LOD budget") has it at 1.0 and 2.5 too (occlusion_lod_report).
   const SphericalCamera camera(1.6, 1.3);
   auto renderer = makeOsMesaRenderer(CameraIntrinsics::fromFieldOfView(256, 256, M_PI / 3.0));
+  const std::vector<SphericalPose> views = silhouetteCheckViews();
   RenderBuffers full, lod;
   int checked = 0;
   const std::vector<std::string> ids =
@@ -42,17 +32,30 @@ int checkCatalog(std::shared_ptr<const ObjectCatalog> catalog, const std::string
   for (const std::string& id : category.empty() ? all_ids : ids) {
     const auto model = library.get(id);
     EXPECT_LE(model->render.triangleCount(), kLodBudget) << id;
-    double worst = 1.0;
-    for (double azimuth : {0.0, 0.8, 1.6, 2.4, 3.1, -0.8, -1.6, -2.4}) {
-      const double elevation = azimuth > 0 ? 0.0 : 0.5;
-      worst = std::min(worst,
-                       silhouetteIou(*renderer, *model, {azimuth, elevation}, camera, full, lod));
-    }
+    const double worst =
+        worstSilhouetteIou(*renderer, model->full, model->render, camera, views, full, lod);
     EXPECT_GE(worst, kMinIou) << id << " (" << model->full.triangleCount() << " -> "
                               << model->render.triangleCount() << " triangles)";
     ++checked;
   }
   return checked;
+}
+
+TEST(LodSilhouetteTest, IouIsOneForTheSameMeshAndFallsWithTheArea) {
+  ObjectLibrary library(makeEmbeddedCatalog(), 0);
+  const Mesh& mesh = library.get(library.catalog().objects().front().id)->full;
+  Mesh shrunk = mesh;
+  for (Eigen::Vector3f& p : shrunk.positions) p *= 0.9f;  // 0.81 of the silhouette area
+  auto renderer = makeOsMesaRenderer(CameraIntrinsics::fromFieldOfView(256, 256, M_PI / 3.0));
+  const SphericalCamera camera(1.6, 1.3);
+  const std::vector<SphericalPose> views = silhouetteCheckViews();
+  ASSERT_EQ(views.size(), 8u);
+  RenderBuffers a, b;
+  EXPECT_EQ(worstSilhouetteIou(*renderer, mesh, mesh, camera, views, a, b), 1.0);
+  const double iou = worstSilhouetteIou(*renderer, mesh, shrunk, camera, views, a, b);
+  EXPECT_GT(iou, 0.70);
+  EXPECT_LT(iou, 0.90);
+  EXPECT_EQ(worstSilhouetteIou(*renderer, mesh, shrunk, camera, {}, a, b), 1.0);
 }
 
 TEST(LodSilhouetteTest, EveryCatalogueChairKeepsItsSilhouette) {

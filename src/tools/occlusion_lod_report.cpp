@@ -1,0 +1,171 @@
+// occlusion_lod_report: how much of each object's silhouette the level-of-detail meshes keep, for
+// several triangle budgets and camera distances. The numbers behind the choice of the default
+// budget (BENCHMARKS.md, "LOD budget").
+//   occlusion_lod_report                                    (catalogue chairs, default grid)
+//   occlusion_lod_report --budgets 4000,5000 --distances 1.6 --per-object
+#include <algorithm>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/core/camera.hpp"
+#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/core/lod_quality.hpp"
+#include "occlusion_env/core/object_library.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(Usage: occlusion_lod_report [options]
+For every object of a category, simplifies its mesh to each budget and compares the silhouettes
+of the full and the simplified mesh (intersection over union, worst of eight views) with the
+object at the origin and the camera at each distance. Prints, per budget and distance, the worst
+and the median object and how many objects fall below --min-iou.
+
+Options:
+  --source S          embedded | sweethome3d | folder (default sweethome3d)
+  --path P            a .sh3f file or folder (sweethome3d), the root (folder); repeatable
+  --category C        objects of this category ("" = all; default chair)
+  --budgets LIST      triangle budgets, comma-separated (default 3000,4000,5000,6000,8000)
+  --distances LIST    camera distances in object diagonals (default 1.0,1.6,2.5; the LOD test
+                      uses 1.6, where the diagonal spans about half of the image)
+  --size N            image width and height [px] (default 256)
+  --min-iou X         the threshold counted against (default 0.98)
+  --per-object        also print each object's worst IoU
+  --help              this text
+)";
+
+std::vector<double> numberList(const std::string& text, const std::string& flag) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    std::size_t used = 0;
+    const double value = std::stod(item, &used);
+    if (used != item.size() || !(value > 0.0)) {
+      throw std::invalid_argument(flag + " needs positive numbers, got '" + item + "'");
+    }
+    values.push_back(value);
+  }
+  if (values.empty()) throw std::invalid_argument(flag + " needs at least one value");
+  return values;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace occlusion_env;
+  CatalogOptions catalog_options;
+  catalog_options.source = "sweethome3d";
+  std::string category = "chair";
+  std::vector<double> budgets{3000, 4000, 5000, 6000, 8000}, distances{1.0, 1.6, 2.5};
+  int size = 256;
+  double min_iou = 0.98;
+  bool per_object = false;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string flag = argv[i];
+      const auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
+        return argv[++i];
+      };
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        return 0;
+      } else if (flag == "--source") {
+        catalog_options.source = value();
+      } else if (flag == "--path") {
+        catalog_options.paths.push_back(value());
+      } else if (flag == "--category") {
+        category = value();
+      } else if (flag == "--budgets") {
+        budgets = numberList(value(), flag);
+      } else if (flag == "--distances") {
+        distances = numberList(value(), flag);
+      } else if (flag == "--size") {
+        size = std::stoi(value());
+      } else if (flag == "--min-iou") {
+        min_iou = std::stod(value());
+      } else if (flag == "--per-object") {
+        per_object = true;
+      } else {
+        throw std::invalid_argument("unknown option " + flag);
+      }
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "occlusion_lod_report: " << error.what() << "\n" << kUsage;
+    return 2;
+  }
+
+  try {
+    std::shared_ptr<const ObjectCatalog> catalog = makeCatalog(catalog_options);
+    std::vector<std::string> ids;
+    if (category.empty()) {
+      for (const ObjectInfo& info : catalog->objects()) ids.push_back(info.id);
+    } else {
+      ids = catalog->idsInCategory(category);
+    }
+    if (ids.empty()) throw CatalogError("no object in category '" + category + "'");
+    ObjectLibrary library(catalog, 0);  // full meshes; the budgets are applied here
+    auto renderer = makeOsMesaRenderer(CameraIntrinsics::fromFieldOfView(size, size, M_PI / 3.0));
+    const std::vector<SphericalPose> views = silhouetteCheckViews();
+    RenderBuffers full_buffers, lod_buffers;
+
+    // worst[b][d][o]: object o's worst IoU at budget b and distance d.
+    std::vector<std::vector<std::vector<double>>> worst(
+        budgets.size(), std::vector<std::vector<double>>(distances.size()));
+    std::vector<std::size_t> lod_triangles(budgets.size(), 0);
+    std::size_t full_triangles = 0;
+    for (std::size_t o = 0; o < ids.size(); ++o) {
+      std::cerr << "\r" << (o + 1) << "/" << ids.size() << " " << ids[o] << "\x1b[K" << std::flush;
+      const auto model = library.get(ids[o]);
+      full_triangles += model->full.triangleCount();
+      std::ostringstream row;
+      row << std::fixed << std::setprecision(4) << std::left << std::setw(44) << ids[o]
+          << std::right << std::setw(8) << model->full.triangleCount();
+      for (std::size_t b = 0; b < budgets.size(); ++b) {
+        const Mesh lod = simplifyMesh(model->full, static_cast<std::size_t>(budgets[b]));
+        lod_triangles[b] += lod.triangleCount();
+        for (std::size_t d = 0; d < distances.size(); ++d) {
+          const SphericalCamera camera(distances[d], 1.3);
+          const double iou = worstSilhouetteIou(*renderer, model->full, lod, camera, views,
+                                                full_buffers, lod_buffers);
+          worst[b][d].push_back(iou);
+          row << "  " << iou;
+        }
+      }
+      if (per_object) std::cout << row.str() << "\n";
+    }
+    std::cerr << "\r\x1b[K";
+
+    std::cout << ids.size() << " objects (" << (category.empty() ? "all" : category) << "), "
+              << full_triangles << " triangles in full; " << size << "x" << size
+              << " px, 60 deg field of view, worst of " << views.size() << " views each\n\n";
+    std::cout << "| budget | LOD triangles | distance | worst IoU (object) | median | below "
+              << min_iou << " |\n|---|---|---|---|---|---|\n";
+    std::cout << std::fixed;
+    for (std::size_t b = 0; b < budgets.size(); ++b) {
+      for (std::size_t d = 0; d < distances.size(); ++d) {
+        const std::vector<double>& ious = worst[b][d];
+        const auto lowest = std::min_element(ious.begin(), ious.end());
+        const long below =
+            std::count_if(ious.begin(), ious.end(), [&](double iou) { return iou < min_iou; });
+        std::cout << "| " << std::setprecision(0) << budgets[b] << " | " << lod_triangles[b]
+                  << " | " << std::setprecision(1) << distances[d] << " | " << std::setprecision(4)
+                  << *lowest << " (" << ids[lowest - ious.begin()] << ") | " << median(ious)
+                  << " | " << below << " |\n";
+      }
+    }
+  } catch (const std::exception& error) {
+    std::cerr << "\nocclusion_lod_report: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
