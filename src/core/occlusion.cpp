@@ -8,6 +8,27 @@
 
 namespace occlusion_env {
 
+static_assert(PairOcclusionList::kCapacity ==
+                  static_cast<std::size_t>(kMaxSceneObjects * (kMaxSceneObjects - 1) / 2),
+              "one slot per pair of a full scene");
+
+void PairOcclusionList::push_back(const PairOcclusion& pair) {
+  if (size_ == kCapacity) {
+    throw InvalidArgumentError("PairOcclusionList: more than " + std::to_string(kCapacity) +
+                               " pairs");
+  }
+  pairs_[size_++] = pair;
+}
+
+void PairOcclusionList::resize(std::size_t size) {
+  if (size > kCapacity) {
+    throw InvalidArgumentError("PairOcclusionList: " + std::to_string(size) + " pairs, at most " +
+                               std::to_string(kCapacity));
+  }
+  for (std::size_t i = size_; i < size; ++i) pairs_[i] = PairOcclusion{};
+  size_ = size;
+}
+
 OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects,
                                 cv::Mat* occlusion_mask) {
   return computeOcclusion(amodal_bits, num_objects, cv::Rect(cv::Point(), amodal_bits.size()),
@@ -62,7 +83,6 @@ OcclusionStats computeOcclusion(const cv::Mat& amodal_bits, int num_objects, cv:
   }
 
   OcclusionStats stats;
-  stats.pairs.reserve(num_objects * (num_objects - 1) / 2);
   for (int i = 0; i < num_objects; ++i) {
     for (int j = i + 1; j < num_objects; ++j) stats.pairs.push_back({i, j, 0});
   }

@@ -23,6 +23,28 @@ cv::Mat handMadeBits() {
   return bits;
 }
 
+TEST(OcclusionTest, PairListHoldsTwentyEightPairsInline) {
+  PairOcclusionList pairs;
+  EXPECT_TRUE(pairs.empty());
+  for (int i = 0; i < 28; ++i) pairs.push_back({i, i + 1, i * 10});
+  EXPECT_EQ(pairs.size(), 28u);
+  EXPECT_THROW(pairs.push_back({0, 1, 0}), InvalidArgumentError);
+  EXPECT_THROW(pairs.resize(29), InvalidArgumentError);
+  EXPECT_EQ(pairs.size(), 28u);
+  PairOcclusionList copy = pairs;
+  copy[3].pixels = -1;
+  EXPECT_EQ(pairs[3].pixels, 30);
+  copy.resize(2);
+  copy.resize(4);  // regrown slots are zero, not the old pairs
+  EXPECT_EQ(copy[3].pixels, 0);
+  EXPECT_EQ(copy[3].first, 0);
+  std::int64_t sum = 0;
+  for (const PairOcclusion& pair : pairs) sum += pair.pixels;
+  EXPECT_EQ(sum, 10 * 27 * 28 / 2);
+  copy.clear();
+  EXPECT_TRUE(copy.empty());
+}
+
 TEST(OcclusionTest, CountsPairsAsEquationNine) {
   cv::Mat mask;
   const OcclusionStats stats = computeOcclusion(handMadeBits(), 3, &mask);

@@ -1,9 +1,10 @@
 // Counting occlusion from amodal silhouettes (Eq. 9 of the paper, with hard masks).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
-#include <vector>
 
 namespace occlusion_env {
 
@@ -12,6 +13,32 @@ struct PairOcclusion {
   int first = 0;
   int second = 0;
   std::int64_t pixels = 0;
+};
+
+/// The pairs of a scene's objects, stored inline: a step's figures are computed and copied into
+/// its result without allocating. Holds up to 28 pairs (8 objects, kMaxSceneObjects).
+class PairOcclusionList {
+ public:
+  static constexpr std::size_t kCapacity = 28;
+
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  PairOcclusion& operator[](std::size_t i) { return pairs_[i]; }
+  const PairOcclusion& operator[](std::size_t i) const { return pairs_[i]; }
+  PairOcclusion* begin() { return pairs_.data(); }
+  PairOcclusion* end() { return pairs_.data() + size_; }
+  const PairOcclusion* begin() const { return pairs_.data(); }
+  const PairOcclusion* end() const { return pairs_.data() + size_; }
+
+  /// Throws InvalidArgumentError beyond kCapacity pairs.
+  void push_back(const PairOcclusion& pair);
+  /// New pairs are zero; throws InvalidArgumentError beyond kCapacity.
+  void resize(std::size_t size);
+  void clear() { size_ = 0; }
+
+ private:
+  std::array<PairOcclusion, kCapacity> pairs_{};
+  std::size_t size_ = 0;
 };
 
 struct OcclusionStats {
@@ -23,7 +50,7 @@ struct OcclusionStats {
   /// Pixels covered by at least one silhouette [px].
   std::int64_t union_pixels = 0;
   /// Every pair i < j, in order (0,1), (0,2), ..., (1,2), ...
-  std::vector<PairOcclusion> pairs;
+  PairOcclusionList pairs;
 };
 
 /// Computes the statistics from `amodal_bits` (CV_8UC1, bit k = object k) for `num_objects`
