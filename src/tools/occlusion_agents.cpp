@@ -13,6 +13,7 @@
 
 #include "occlusion_env/core/agent.hpp"
 #include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/tools/arguments.hpp"
 
 namespace {
 
@@ -38,17 +39,6 @@ Options:
   std::exit(2);
 }
 
-int toCount(const std::string& flag, const std::string& text, int minimum) {
-  try {
-    std::size_t used = 0;
-    const long value = std::stol(text, &used);
-    if (used != text.size() || value < minimum || value > 1000000) throw std::out_of_range(text);
-    return static_cast<int>(value);
-  } catch (const std::exception&) {
-    fail(flag + " expects an integer >= " + std::to_string(minimum) + ", got '" + text + "'");
-  }
-}
-
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
   int scenes = 50;
@@ -59,33 +49,35 @@ struct Arguments {
 
 Arguments parse(int argc, char** argv) {
   Arguments args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--help" || flag == "-h") {
-      std::cout << kUsage;
-      std::exit(0);
+  occlusion_env::tools::ArgumentReader reader(argc, argv);
+  try {
+    while (reader.next()) {
+      const std::string& flag = reader.flag();
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        std::exit(0);
+      } else if (flag == "--scenes") {
+        args.scenes = static_cast<int>(reader.integer(1, 1000000));
+      } else if (flag == "--first-seed") {
+        args.first_seed = static_cast<int>(reader.integer(0, 1000000));
+      } else if (flag == "--max-steps") {
+        args.max_steps = static_cast<int>(reader.integer(1, 1000000));
+      } else if (flag == "--source") {
+        args.options.catalog.source = reader.text();
+      } else if (flag == "--path") {
+        args.options.catalog.paths.push_back(reader.text());
+      } else if (flag == "--category") {
+        args.options.scene.categories.push_back(reader.text());
+      } else if (flag == "--size") {
+        args.options.width = args.options.height = static_cast<int>(reader.integer(64, 1000000));
+      } else if (flag == "--gradient") {
+        args.gradient = reader.text();
+      } else {
+        reader.unknown();
+      }
     }
-    if (i + 1 >= argc) fail(flag + " needs a value");
-    const std::string value = argv[++i];
-    if (flag == "--scenes") {
-      args.scenes = toCount(flag, value, 1);
-    } else if (flag == "--first-seed") {
-      args.first_seed = toCount(flag, value, 0);
-    } else if (flag == "--max-steps") {
-      args.max_steps = toCount(flag, value, 1);
-    } else if (flag == "--source") {
-      args.options.catalog.source = value;
-    } else if (flag == "--path") {
-      args.options.catalog.paths.push_back(value);
-    } else if (flag == "--category") {
-      args.options.scene.categories.push_back(value);
-    } else if (flag == "--size") {
-      args.options.width = args.options.height = toCount(flag, value, 64);
-    } else if (flag == "--gradient") {
-      args.gradient = value;
-    } else {
-      fail("unknown option " + flag);
-    }
+  } catch (const occlusion_env::tools::ArgumentError& error) {
+    fail(error.what());
   }
   args.options.max_steps = args.max_steps;
   return args;

@@ -25,6 +25,7 @@
 #include "occlusion_env/eval/subprocess.hpp"
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/eval/sweep.hpp"
+#include "occlusion_env/tools/arguments.hpp"
 
 namespace fs = std::filesystem;
 using namespace occlusion_env;        // NOLINT
@@ -74,61 +75,48 @@ struct CommandLine {
   std::string report;
 };
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (!item.empty()) items.push_back(item);
-  }
-  return items;
-}
-
 CommandLine parse(int argc, char** argv) {
   CommandLine cl;
-  auto value = [&](int& i) -> std::string {
-    if (i + 1 >= argc) throw InvalidArgumentError(std::string(argv[i]) + " needs a value");
-    return argv[++i];
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
+  tools::ArgumentReader args(argc, argv);
+  while (args.next()) {
+    const std::string& arg = args.flag();
     if (arg == "--scenes") {
-      cl.scenes = value(i);
+      cl.scenes = args.text();
     } else if (arg == "--sweep") {
-      cl.sweep = value(i);
+      cl.sweep = args.text();
     } else if (arg == "--summarize") {
-      cl.summarize = value(i);
+      cl.summarize = args.text();
     } else if (arg == "--landscape") {
-      cl.landscape = value(i);
+      cl.landscape = args.text();
     } else if (arg == "--all") {
       cl.all = true;
     } else if (arg == "--agents") {
-      cl.agents = splitList(value(i));
+      cl.agents = args.list();
     } else if (arg == "--max-steps") {
-      cl.max_steps = std::stoi(value(i));
+      cl.max_steps = static_cast<int>(args.integer(1, 1000000));
     } else if (arg == "--limit") {
-      cl.limit = std::stoi(value(i));
+      cl.limit = static_cast<int>(args.integer(1, 1000000));
     } else if (arg == "--sweep-source") {
-      cl.sweep_source = value(i);
+      cl.sweep_source = args.text();
     } else if (arg == "--out") {
-      cl.out = value(i);
+      cl.out = args.text();
     } else if (arg == "--best-seed") {
-      cl.best.seed = std::stoull(value(i));
+      cl.best.seed = args.unsignedInteger();
     } else if (arg == "--best-samples") {
-      cl.best.samples_per_chain = std::stoi(value(i));
+      cl.best.samples_per_chain = static_cast<int>(args.integer(1, 100000000));
     } else if (arg == "--no-plots") {
       cl.plots = false;
     } else if (arg == "--plot-script") {
-      cl.plot_script = value(i);
+      cl.plot_script = args.text();
     } else if (arg == "--source-dir") {
-      cl.source_dir = value(i);
+      cl.source_dir = args.text();
     } else if (arg == "--report") {
-      cl.report = value(i);
+      cl.report = args.text();
     } else if (arg == "-h" || arg == "--help") {
       std::cout << kUsage;
       std::exit(0);
     } else {
-      throw InvalidArgumentError("unknown argument " + quoted(arg));
+      args.unknown();
     }
   }
   const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() +
@@ -396,6 +384,9 @@ int main(int argc, char** argv) {
     } else {
       runAll(cl);
     }
+  } catch (const tools::ArgumentError& error) {
+    std::cerr << "occlusion_eval: " << error.what() << "\n" << kUsage;
+    return 2;
   } catch (const std::exception& error) {
     std::cerr << "occlusion_eval: " << error.what() << "\n" << kUsage;
     return 1;

@@ -14,6 +14,7 @@
 #include "occlusion_env/core/errors.hpp"
 #include "occlusion_env/core/lod_quality.hpp"
 #include "occlusion_env/core/object_library.hpp"
+#include "occlusion_env/tools/arguments.hpp"
 
 namespace {
 
@@ -36,22 +37,6 @@ Options:
   --help              this text
 )";
 
-std::vector<double> numberList(const std::string& text, const std::string& flag) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    std::size_t used = 0;
-    const double value = std::stod(item, &used);
-    if (used != item.size() || !(value > 0.0)) {
-      throw std::invalid_argument(flag + " needs positive numbers, got '" + item + "'");
-    }
-    values.push_back(value);
-  }
-  if (values.empty()) throw std::invalid_argument(flag + " needs at least one value");
-  return values;
-}
-
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
@@ -70,36 +55,33 @@ int main(int argc, char** argv) {
   double min_iou = 0.98;
   bool per_object = false;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string flag = argv[i];
-      const auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(flag + " needs a value");
-        return argv[++i];
-      };
+    tools::ArgumentReader args(argc, argv);
+    while (args.next()) {
+      const std::string& flag = args.flag();
       if (flag == "--help" || flag == "-h") {
         std::cout << kUsage;
         return 0;
       } else if (flag == "--source") {
-        catalog_options.source = value();
+        catalog_options.source = args.text();
       } else if (flag == "--path") {
-        catalog_options.paths.push_back(value());
+        catalog_options.paths.push_back(args.text());
       } else if (flag == "--category") {
-        category = value();
+        category = args.text();
       } else if (flag == "--budgets") {
-        budgets = numberList(value(), flag);
+        budgets = args.numbers(1.0, 1e9);
       } else if (flag == "--distances") {
-        distances = numberList(value(), flag);
+        distances = args.numbers(0.6, 1e3);  // outside the object's bounding sphere
       } else if (flag == "--size") {
-        size = std::stoi(value());
+        size = static_cast<int>(args.integer(1, 1 << 16));
       } else if (flag == "--min-iou") {
-        min_iou = std::stod(value());
+        min_iou = args.number(0.0, 1.0);
       } else if (flag == "--per-object") {
         per_object = true;
       } else {
-        throw std::invalid_argument("unknown option " + flag);
+        args.unknown();
       }
     }
-  } catch (const std::exception& error) {
+  } catch (const tools::ArgumentError& error) {
     std::cerr << "occlusion_lod_report: " << error.what() << "\n" << kUsage;
     return 2;
   }

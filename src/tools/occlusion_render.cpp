@@ -13,6 +13,7 @@
 
 #include "occlusion_env/core/environment.hpp"
 #include "occlusion_env/core/visualization.hpp"
+#include "occlusion_env/tools/arguments.hpp"
 
 namespace {
 
@@ -54,70 +55,55 @@ struct Arguments {
   std::exit(2);
 }
 
-double toNumber(const std::string& flag, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used != text.size()) throw std::invalid_argument(text);
-    return value;
-  } catch (const std::exception&) {
-    fail(flag + " expects a number, got '" + text + "'");
-  }
-}
-
 Arguments parse(int argc, char** argv) {
+  namespace tools = occlusion_env::tools;
+  constexpr double kHuge = 1e12;
   Arguments args;
-  for (int i = 1; i < argc; ++i) {
-    const std::string flag = argv[i];
-    if (flag == "--help" || flag == "-h") {
-      std::cout << kUsage;
-      std::exit(0);
+  tools::ArgumentReader reader(argc, argv);
+  try {
+    while (reader.next()) {
+      const std::string& flag = reader.flag();
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        std::exit(0);
+      } else if (flag == "--list") {
+        args.list = true;
+      } else if (flag == "--seed") {
+        args.seed = reader.unsignedInteger();
+      } else if (flag == "--preset") {
+        args.options.preset = reader.text();
+      } else if (flag == "--source") {
+        args.options.catalog.source = reader.text();
+      } else if (flag == "--path") {
+        args.options.catalog.paths.push_back(reader.text());
+      } else if (flag == "--category") {
+        args.options.scene.categories.push_back(reader.text());
+      } else if (flag == "--id") {
+        args.options.scene.object_ids.push_back(reader.text());
+      } else if (flag == "--objects") {
+        args.options.scene.num_objects = static_cast<int>(reader.integer(1, 1000));
+      } else if (flag == "--size") {
+        args.options.width = args.options.height = static_cast<int>(reader.integer(1, 1 << 16));
+      } else if (flag == "--azimuth") {
+        args.reset.start_azimuth_rad = reader.number(-kHuge, kHuge);
+      } else if (flag == "--elevation") {
+        args.reset.start_elevation_rad = reader.number(-kHuge, kHuge);
+      } else if (flag == "--lod") {
+        args.options.lod_triangle_budget = static_cast<std::size_t>(reader.integer(0, 1LL << 40));
+      } else if (flag == "--steps") {
+        args.steps = static_cast<int>(reader.integer(0, 1'000'000'000));
+      } else if (flag == "--action") {
+        const std::vector<double> action = reader.numbers(-kHuge, kHuge);
+        if (action.size() != 2) fail("--action expects DAZ,DEL");
+        args.action = {action[0], action[1]};
+      } else if (flag == "--out") {
+        args.out_dir = reader.text();
+      } else {
+        reader.unknown();
+      }
     }
-    if (flag == "--list") {
-      args.list = true;
-      continue;
-    }
-    if (i + 1 >= argc) fail(flag + " needs a value");
-    const std::string value = argv[++i];
-    if (flag == "--seed") {
-      const double seed = toNumber(flag, value);
-      if (seed < 0) fail("--seed must be non-negative");
-      args.seed = static_cast<std::uint64_t>(seed);
-    } else if (flag == "--preset") {
-      args.options.preset = value;
-    } else if (flag == "--source") {
-      args.options.catalog.source = value;
-    } else if (flag == "--path") {
-      args.options.catalog.paths.push_back(value);
-    } else if (flag == "--category") {
-      args.options.scene.categories.push_back(value);
-    } else if (flag == "--id") {
-      args.options.scene.object_ids.push_back(value);
-    } else if (flag == "--objects") {
-      args.options.scene.num_objects = static_cast<int>(toNumber(flag, value));
-    } else if (flag == "--size") {
-      args.options.width = args.options.height = static_cast<int>(toNumber(flag, value));
-    } else if (flag == "--azimuth") {
-      args.reset.start_azimuth_rad = toNumber(flag, value);
-    } else if (flag == "--elevation") {
-      args.reset.start_elevation_rad = toNumber(flag, value);
-    } else if (flag == "--lod") {
-      const double budget = toNumber(flag, value);
-      if (budget < 0) fail("--lod must be non-negative");
-      args.options.lod_triangle_budget = static_cast<std::size_t>(budget);
-    } else if (flag == "--steps") {
-      args.steps = static_cast<int>(toNumber(flag, value));
-      if (args.steps < 0) fail("--steps must be non-negative");
-    } else if (flag == "--action") {
-      const std::size_t comma = value.find(',');
-      if (comma == std::string::npos) fail("--action expects DAZ,DEL, got '" + value + "'");
-      args.action = {toNumber(flag, value.substr(0, comma)),
-                     toNumber(flag, value.substr(comma + 1))};
-    } else if (flag == "--out") {
-      args.out_dir = value;
-    } else {
-      fail("unknown option " + flag);
-    }
+  } catch (const tools::ArgumentError& error) {
+    fail(error.what());
   }
   return args;
 }

@@ -16,6 +16,7 @@
 #include "occlusion_env/core/environment.hpp"
 #include "occlusion_env/core/errors.hpp"
 #include "occlusion_env/core/random.hpp"
+#include "occlusion_env/tools/arguments.hpp"
 
 namespace {
 
@@ -39,11 +40,6 @@ double residentMiB() {
   return static_cast<double>(pages_resident) * sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0);
 }
 
-long numberArg(int argc, char** argv, int& i) {
-  if (i + 1 >= argc) throw std::invalid_argument(std::string(argv[i]) + " needs a value");
-  return std::stol(argv[++i]);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -53,31 +49,33 @@ int main(int argc, char** argv) {
   bool check = false;
   EnvironmentOptions options;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string flag = argv[i];
+    tools::ArgumentReader args(argc, argv);
+    constexpr long long kMany = 1'000'000'000'000;
+    while (args.next()) {
+      const std::string& flag = args.flag();
       if (flag == "--help" || flag == "-h") {
         std::cout << kUsage;
         return 0;
       } else if (flag == "--steps") {
-        total_steps = numberArg(argc, argv, i);
+        total_steps = args.integer(1, kMany);
       } else if (flag == "--reset-every") {
-        reset_every = numberArg(argc, argv, i);
+        reset_every = args.integer(1, kMany);
       } else if (flag == "--report-every") {
-        report_every = numberArg(argc, argv, i);
+        report_every = args.integer(1, kMany);
       } else if (flag == "--warmup") {
-        warmup = numberArg(argc, argv, i);
+        warmup = args.integer(0, kMany);
       } else if (flag == "--size") {
-        options.width = options.height = static_cast<int>(numberArg(argc, argv, i));
-      } else if (flag == "--source" && i + 1 < argc) {
-        options.catalog.source = argv[++i];
+        options.width = options.height = static_cast<int>(args.integer(1, 1 << 16));
+      } else if (flag == "--source") {
+        options.catalog.source = args.text();
       } else if (flag == "--check") {
         check = true;
-      } else if (flag == "--max-growth-mb" && i + 1 < argc) {
-        max_growth_mib = std::stod(argv[++i]);
-      } else if (flag == "--min-rate-ratio" && i + 1 < argc) {
-        min_rate_ratio = std::stod(argv[++i]);
+      } else if (flag == "--max-growth-mb") {
+        max_growth_mib = args.number(0.0, 1e9);
+      } else if (flag == "--min-rate-ratio") {
+        min_rate_ratio = args.number(0.0, 1e9);
       } else {
-        throw std::invalid_argument("unknown option " + flag);
+        args.unknown();
       }
     }
     if (total_steps <= warmup || reset_every < 1 || report_every < 1 || warmup < 0) {
