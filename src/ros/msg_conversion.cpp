@@ -146,12 +146,7 @@ void viewObservation(const CameraObservation& message, Observation& observation,
   info.occlusion.total_pixels = message.occlusion.total_pixels;
   info.occlusion.occluded_area_pixels = message.occlusion.occluded_area_pixels;
   info.occlusion.union_pixels = message.occlusion.union_pixels;
-  if (message.occlusion.pairs.size() > PairOcclusionList::kCapacity) {
-    throw std::invalid_argument(
-        "observation lists " + std::to_string(message.occlusion.pairs.size()) +
-        " object pairs, at most " + std::to_string(PairOcclusionList::kCapacity));
-  }
-  info.occlusion.pairs.resize(message.occlusion.pairs.size());
+  info.occlusion.pairs.resize(message.occlusion.pairs.size());  // throws beyond 28 pairs
   for (std::size_t i = 0; i < message.occlusion.pairs.size(); ++i) {
     info.occlusion.pairs[i].first = message.occlusion.pairs[i].first;
     info.occlusion.pairs[i].second = message.occlusion.pairs[i].second;

@@ -6,13 +6,10 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "occlusion_env/core/errors.hpp"  // quoted()
+
 namespace occlusion_env::tools {
 namespace {
-
-/// At most 40 characters of a user's text, quoted, for error messages.
-std::string quoted(const std::string& text) {
-  return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'";
-}
 
 bool isInteger(const std::string& text, bool allow_sign) {
   std::size_t first = 0;
