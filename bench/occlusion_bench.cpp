@@ -10,9 +10,9 @@
 #include <memory>
 #include <utility>
 
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/occlusion_gradient.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
 
 namespace occlusion_env {
 namespace {

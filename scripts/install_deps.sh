@@ -20,7 +20,12 @@ packages=(
   libtf-dev
   # core libraries
   libeigen3-dev libopencv-dev libassimp-dev libosmesa6-dev libmeshoptimizer-dev libzip-dev
-  libyaml-cpp-dev
+  libyaml-cpp-dev nlohmann-json3-dev
+  # the learning library: libtorch, and OpenBLAS so that its convolutions do not run on the
+  # reference BLAS (5-8x slower; doc/BENCHMARKS.md)
+  libtorch-dev libopenblas0-openmp
+  # point clouds from the simulator's depth (sim.launch points:=true)
+  libdepth-image-proc-dev libnodeletlib-tools
   # tests and benchmarks
   libgtest-dev libbenchmark-dev
   # libFuzzer on the parsers (test/fuzz)

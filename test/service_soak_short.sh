@@ -6,25 +6,10 @@
 set -eo pipefail
 setup=${1:?usage: service_soak_short.sh DEVEL_SETUP_BASH SOURCE_DIR}
 source_dir=${2:?usage: service_soak_short.sh DEVEL_SETUP_BASH SOURCE_DIR}
-source "$setup"
-port=$((20000 + RANDOM % 20000))
-export ROS_MASTER_URI=http://localhost:$port
-export ROS_LOG_DIR=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$ROS_LOG_DIR"
-}
-trap cleanup EXIT
-
-roscore -p "$port" >/dev/null 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+source "$(dirname "${BASH_SOURCE[0]}")/private_roscore.sh" "$setup"
 rosparam load "$source_dir/config/sim.yaml" /occlusion_sim
 rosparam set /occlusion_sim/width 128
 rosparam set /occlusion_sim/height 128
-bin=$(dirname "$setup")/lib/occlusion_env
 "$bin/occlusion_sim" __name:=occlusion_sim >/dev/null 2>&1 &
 pids+=($!)
 "$bin/occlusion_service_soak" __name:=occlusion_service_soak _steps:=3000 \

@@ -16,8 +16,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/random.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/random.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
 
 namespace occlusion_env {
@@ -160,6 +160,113 @@ Interval highestDensityInterval(std::vector<double> samples, double mass) {
   return {samples[best_start], samples[best_start + span]};
 }
 
+namespace {
+
+// The model, data, per-chain start values and the JAGS script in `dir`.
+void writeJagsInputs(const fs::path& dir, const std::vector<double>& differences,
+                     double sample_mean, double sample_sd, const BestOptions& options) {
+  writeFile(dir / "model.bug", kPairedBestModel);
+
+  std::ostringstream data;
+  data << "\"n\" <- " << differences.size() << "\n\"y\" <- c(";
+  for (std::size_t i = 0; i < differences.size(); ++i) {
+    data << (i > 0 ? ", " : "") << formatDouble(differences[i]);
+  }
+  data << ")\n";
+  data << "\"mu_prior_mean\" <- " << formatDouble(sample_mean) << "\n";
+  data << "\"mu_prior_precision\" <- " << formatDouble(1.0 / std::pow(1000.0 * sample_sd, 2))
+       << "\n";
+  data << "\"sigma_low\" <- " << formatDouble(sample_sd / 1000.0) << "\n";
+  data << "\"sigma_high\" <- " << formatDouble(sample_sd * 1000.0) << "\n";
+  writeFile(dir / "data.R", data.str());
+
+  // Each chain: its own Mersenne-Twister seed from `options.seed`, and Kruschke's start values.
+  std::ostringstream script;
+  script << "model in \"model.bug\"\ndata in \"data.R\"\ncompile, nchains(" << options.chains
+         << ")\n";
+  RandomSource seeds(options.seed);
+  for (int chain = 1; chain <= options.chains; ++chain) {
+    const std::uint64_t chain_seed = 1 + seeds.below(2147483646ULL);  // JAGS takes an int
+    std::ostringstream inits;
+    inits << "\".RNG.name\" <- \"base::Mersenne-Twister\"\n"
+          << "\".RNG.seed\" <- " << chain_seed << "\n"
+          << "\"mu\" <- " << formatDouble(sample_mean) << "\n"
+          << "\"sigma\" <- " << formatDouble(sample_sd) << "\n"
+          << "\"nu_minus_one\" <- 4\n";
+    const std::string file = "inits" + std::to_string(chain) + ".R";
+    writeFile(dir / file, inits.str());
+    script << "parameters in \"" << file << "\", chain(" << chain << ")\n";
+  }
+  script << "initialize\n";
+  if (options.adapt_iterations > 0) script << "adapt " << options.adapt_iterations << "\n";
+  if (options.burn_in_iterations > 0) script << "update " << options.burn_in_iterations << "\n";
+  script << "monitor mu\nmonitor sigma\nmonitor nu\n"
+         << "update " << options.samples_per_chain << "\n"
+         << "coda *, stem(CODA)\nexit\n";
+  writeFile(dir / "script.cmd", script.str());
+}
+
+struct PosteriorSamples {
+  std::vector<double> mu, sigma, nu;  // all chains, one after the other
+};
+
+// The monitored samples of every chain from JAGS's CODA output in `dir`.
+PosteriorSamples readPosteriorSamples(const fs::path& dir, int chains) {
+  const auto index = readCodaIndex(dir / "CODAindex.txt");
+  for (const char* name : {"mu", "sigma", "nu"}) {
+    if (index.count(name) == 0) {
+      throw std::runtime_error(std::string("BEST: CODAindex.txt lacks ") + name + ": " +
+                               readTail(dir / "jags.log", 1500));
+    }
+  }
+  PosteriorSamples samples;
+  for (int chain = 1; chain <= chains; ++chain) {
+    const std::vector<double> values =
+        readCodaValues(dir / ("CODAchain" + std::to_string(chain) + ".txt"));
+    auto append = [&](const char* name, std::vector<double>& target) {
+      const auto [first, last] = index.at(name);
+      if (first < 1 || last > values.size() || first > last) {
+        throw std::runtime_error("BEST: truncated CODA output for chain " + std::to_string(chain));
+      }
+      target.insert(target.end(), values.begin() + static_cast<std::ptrdiff_t>(first - 1),
+                    values.begin() + static_cast<std::ptrdiff_t>(last));
+    };
+    append("mu", samples.mu);
+    append("sigma", samples.sigma);
+    append("nu", samples.nu);
+  }
+  if (samples.mu.size() != samples.sigma.size() || samples.mu.size() != samples.nu.size() ||
+      samples.mu.empty()) {
+    throw std::runtime_error("BEST: inconsistent CODA output");
+  }
+  return samples;
+}
+
+// Posterior means, HDIs and P(mu > 0) into `result`.
+void summarizePosterior(PosteriorSamples samples, double credible_mass, BestResult& result) {
+  const std::size_t n = samples.mu.size();
+  std::vector<double> effect_size(n);
+  std::vector<double> log10_nu(n);
+  std::size_t positive = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    effect_size[i] = samples.mu[i] / samples.sigma[i];
+    log10_nu[i] = std::log10(samples.nu[i]);
+    if (samples.mu[i] > 0.0) ++positive;
+  }
+  result.mu_mean = mean(samples.mu);
+  result.mu_hdi = highestDensityInterval(samples.mu, credible_mass);
+  result.probability_mu_positive = static_cast<double>(positive) / static_cast<double>(n);
+  result.sigma_mean = mean(samples.sigma);
+  result.nu_mean = mean(samples.nu);
+  result.nu_median = median(samples.nu);
+  result.log10_nu_mean = mean(log10_nu);
+  result.effect_size_mean = mean(effect_size);
+  result.effect_size_hdi = highestDensityInterval(effect_size, credible_mass);
+  result.mu_samples = std::move(samples.mu);
+}
+
+}  // namespace
+
 BestResult runBest(const std::vector<double>& differences, const BestOptions& options) {
   validateOptions(options);
   if (differences.size() < 2) throw InvalidArgumentError("BEST needs at least 2 differences");
@@ -191,102 +298,16 @@ BestResult runBest(const std::vector<double>& differences, const BestOptions& op
     throw std::runtime_error("BEST: JAGS not found at " + options.jags_executable +
                              " (install the Debian package 'jags': apt-get install jags)");
   }
-
   TemporaryDirectory work_dir(options.keep_work_dir);
-  writeFile(work_dir.path() / "model.bug", kPairedBestModel);
-
-  std::ostringstream data;
-  data << "\"n\" <- " << differences.size() << "\n\"y\" <- c(";
-  for (std::size_t i = 0; i < differences.size(); ++i) {
-    data << (i > 0 ? ", " : "") << formatDouble(differences[i]);
-  }
-  data << ")\n";
-  data << "\"mu_prior_mean\" <- " << formatDouble(result.sample_mean) << "\n";
-  data << "\"mu_prior_precision\" <- " << formatDouble(1.0 / std::pow(1000.0 * result.sample_sd, 2))
-       << "\n";
-  data << "\"sigma_low\" <- " << formatDouble(result.sample_sd / 1000.0) << "\n";
-  data << "\"sigma_high\" <- " << formatDouble(result.sample_sd * 1000.0) << "\n";
-  writeFile(work_dir.path() / "data.R", data.str());
-
-  // Each chain: its own Mersenne-Twister seed from `options.seed`, and Kruschke's start values.
-  std::ostringstream script;
-  script << "model in \"model.bug\"\ndata in \"data.R\"\ncompile, nchains(" << options.chains
-         << ")\n";
-  RandomSource seeds(options.seed);
-  for (int chain = 1; chain <= options.chains; ++chain) {
-    const std::uint64_t chain_seed = 1 + seeds.below(2147483646ULL);  // JAGS takes an int
-    std::ostringstream inits;
-    inits << "\".RNG.name\" <- \"base::Mersenne-Twister\"\n"
-          << "\".RNG.seed\" <- " << chain_seed << "\n"
-          << "\"mu\" <- " << formatDouble(result.sample_mean) << "\n"
-          << "\"sigma\" <- " << formatDouble(result.sample_sd) << "\n"
-          << "\"nu_minus_one\" <- 4\n";
-    const std::string file = "inits" + std::to_string(chain) + ".R";
-    writeFile(work_dir.path() / file, inits.str());
-    script << "parameters in \"" << file << "\", chain(" << chain << ")\n";
-  }
-  script << "initialize\n";
-  if (options.adapt_iterations > 0) script << "adapt " << options.adapt_iterations << "\n";
-  if (options.burn_in_iterations > 0) script << "update " << options.burn_in_iterations << "\n";
-  script << "monitor mu\nmonitor sigma\nmonitor nu\n"
-         << "update " << options.samples_per_chain << "\n"
-         << "coda *, stem(CODA)\nexit\n";
-  writeFile(work_dir.path() / "script.cmd", script.str());
-
+  writeJagsInputs(work_dir.path(), differences, result.sample_mean, result.sample_sd, options);
   const int status = runProgram({options.jags_executable, "script.cmd"}, work_dir.path().string(),
                                 (work_dir.path() / "jags.log").string());
   if (status != 0) {
     throw std::runtime_error("BEST: jags exited with status " + std::to_string(status) + ": " +
                              readTail(work_dir.path() / "jags.log", 1500));
   }
-
-  const auto index = readCodaIndex(work_dir.path() / "CODAindex.txt");
-  for (const char* name : {"mu", "sigma", "nu"}) {
-    if (index.count(name) == 0) {
-      throw std::runtime_error(std::string("BEST: CODAindex.txt lacks ") + name + ": " +
-                               readTail(work_dir.path() / "jags.log", 1500));
-    }
-  }
-  std::vector<double> mu;
-  std::vector<double> sigma;
-  std::vector<double> nu;
-  for (int chain = 1; chain <= options.chains; ++chain) {
-    const std::vector<double> values =
-        readCodaValues(work_dir.path() / ("CODAchain" + std::to_string(chain) + ".txt"));
-    auto append = [&](const char* name, std::vector<double>& target) {
-      const auto [first, last] = index.at(name);
-      if (first < 1 || last > values.size() || first > last) {
-        throw std::runtime_error("BEST: truncated CODA output for chain " + std::to_string(chain));
-      }
-      target.insert(target.end(), values.begin() + static_cast<std::ptrdiff_t>(first - 1),
-                    values.begin() + static_cast<std::ptrdiff_t>(last));
-    };
-    append("mu", mu);
-    append("sigma", sigma);
-    append("nu", nu);
-  }
-  if (mu.size() != sigma.size() || mu.size() != nu.size() || mu.empty()) {
-    throw std::runtime_error("BEST: inconsistent CODA output");
-  }
-
-  std::vector<double> effect_size(mu.size());
-  std::vector<double> log10_nu(mu.size());
-  std::size_t positive = 0;
-  for (std::size_t i = 0; i < mu.size(); ++i) {
-    effect_size[i] = mu[i] / sigma[i];
-    log10_nu[i] = std::log10(nu[i]);
-    if (mu[i] > 0.0) ++positive;
-  }
-  result.mu_mean = mean(mu);
-  result.mu_hdi = highestDensityInterval(mu, options.credible_mass);
-  result.probability_mu_positive = static_cast<double>(positive) / static_cast<double>(mu.size());
-  result.sigma_mean = mean(sigma);
-  result.nu_mean = mean(nu);
-  result.nu_median = median(nu);
-  result.log10_nu_mean = mean(log10_nu);
-  result.effect_size_mean = mean(effect_size);
-  result.effect_size_hdi = highestDensityInterval(effect_size, options.credible_mass);
-  result.mu_samples = std::move(mu);
+  summarizePosterior(readPosteriorSamples(work_dir.path(), options.chains), options.credible_mass,
+                     result);
   return result;
 }
 

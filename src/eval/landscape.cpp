@@ -5,8 +5,8 @@
 #include <fstream>
 #include <iomanip>
 
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/occlusion.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
 
 namespace occlusion_env {
 namespace eval {
@@ -49,36 +49,34 @@ int writeOcclusionLandscapeCsv(Environment& env, const LandscapeGrid& grid,
   return azimuths * elevations;
 }
 
-void writeEpisodePathsCsv(const std::vector<AgentPath>& paths, const std::string& path) {
+void writeEpisodePathsCsv(const std::vector<EpisodeRecord>& episodes, const std::string& path) {
   std::ofstream out(path);
   if (!out) throw InvalidArgumentError("cannot write " + path);
   out << "agent,success,steps,t,azimuth_rad,elevation_rad\n" << std::setprecision(9);
-  for (const AgentPath& agent_path : paths) {
-    const EpisodeResult& episode = agent_path.episode;
+  for (const EpisodeRecord& episode : episodes) {
     for (std::size_t t = 0; t < episode.path.size(); ++t) {
-      out << agent_path.agent << ',' << (episode.success ? 1 : 0) << ',' << episode.steps << ','
-          << t << ',' << episode.path[t].azimuth_rad << ',' << episode.path[t].elevation_rad
-          << '\n';
+      out << episode.agent << ',' << (episode.success() ? 1 : 0) << ',' << episode.steps << ',' << t
+          << ',' << episode.path[t].azimuth_rad << ',' << episode.path[t].elevation_rad << '\n';
     }
   }
 }
 
-LandscapeGrid gridAround(const std::vector<AgentPath>& paths, double margin_rad,
+LandscapeGrid gridAround(const std::vector<EpisodeRecord>& paths, double margin_rad,
                          double min_half_width_rad, double spacing_rad,
                          double elevation_limit_rad) {
   LandscapeGrid grid;
   grid.spacing_rad = spacing_rad;
   double start_azimuth = 0.0, start_elevation = 0.0;
-  if (!paths.empty() && !paths.front().episode.path.empty()) {
-    start_azimuth = paths.front().episode.path.front().azimuth_rad;
-    start_elevation = paths.front().episode.path.front().elevation_rad;
+  if (!paths.empty() && !paths.front().path.empty()) {
+    start_azimuth = paths.front().path.front().azimuth_rad;
+    start_elevation = paths.front().path.front().elevation_rad;
   }
   grid.azimuth_min_rad = start_azimuth - min_half_width_rad;
   grid.azimuth_max_rad = start_azimuth + min_half_width_rad;
   grid.elevation_min_rad = start_elevation - min_half_width_rad;
   grid.elevation_max_rad = start_elevation + min_half_width_rad;
-  for (const AgentPath& path : paths) {
-    for (const SphericalPose& pose : path.episode.path) {
+  for (const EpisodeRecord& episode : paths) {
+    for (const SphericalPose& pose : episode.path) {
       grid.azimuth_min_rad = std::min(grid.azimuth_min_rad, pose.azimuth_rad - margin_rad);
       grid.azimuth_max_rad = std::max(grid.azimuth_max_rad, pose.azimuth_rad + margin_rad);
       grid.elevation_min_rad = std::min(grid.elevation_min_rad, pose.elevation_rad - margin_rad);

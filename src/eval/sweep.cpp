@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/common/errors.hpp"
 
 namespace occlusion_env {
 namespace eval {

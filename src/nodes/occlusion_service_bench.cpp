@@ -1,8 +1,10 @@
-// occlusion_service_bench: what the ROS service adds to a step. Times `steps` steps through the
-// running simulator's step service (persistent connection) and the same steps on an in-process
-// Environment built from the simulator's own parameters, then prints both medians and the
-// difference. Private parameters: ~steps (default 500), ~seed (default 1), ~simulator (the
-// simulator node's name, default /occlusion_sim, whose parameters give the options).
+// occlusion_service_bench: what the ROS service adds to a step. Waits for the simulator's reset
+// and step services (~timeout, default 60 s), times `steps` steps through them (the
+// EnvironmentClient every agent node uses: persistent connections) and the same steps on an
+// in-process Environment built from the simulator's own parameters, then prints both medians and
+// the difference. Exits 1, saying why, when it cannot measure. Private parameters: ~steps
+// (default 500), ~seed (default 1), ~timeout [s], ~simulator (the simulator node's name, default
+// /occlusion_sim, whose parameters give the options).
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -12,9 +14,8 @@
 #include <functional>
 #include <vector>
 
-#include "occlusion_env/Reset.h"
-#include "occlusion_env/Step.h"
-#include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/ros/environment_client.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
@@ -51,62 +52,35 @@ std::vector<double> timeSteps(int steps, const std::function<void()>& reset,
   return milliseconds;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "occlusion_service_bench");
-  ros::NodeHandle private_node("~");
-  ros::NodeHandle node(occlusion_env::names::kNamespace);
+int run(ros::NodeHandle& private_node, ros::NodeHandle& node) {
   const int steps = private_node.param("steps", 500);
   const int seed = private_node.param("seed", 1);
+  const double timeout_s = private_node.param("timeout", 60.0);
   const std::string simulator = private_node.param<std::string>(
       "simulator", std::string("/") + occlusion_env::names::kSimulatorNode);
+  if (steps < 2) throw std::invalid_argument("~steps must be >= 2");
 
-  ros::ServiceClient reset_client =
-      node.serviceClient<occlusion_env::Reset>(occlusion_env::names::kResetService, true);
-  ros::ServiceClient step_client =
-      node.serviceClient<occlusion_env::Step>(occlusion_env::names::kStepService, true);
-  if (!reset_client.waitForExistence(ros::Duration(60.0))) {
-    ROS_FATAL_STREAM("no simulator: " << reset_client.getService() << " did not appear in 60 s");
-    return 1;
-  }
+  // Every service it uses must be up before the first call: the simulator advertises them one
+  // after the other, after its start-up reset.
+  occlusion_env::EnvironmentClient client(node, {timeout_s, /*reset_attempts=*/1});
+  client.connect();
   const occlusion_env::SimulatorOptions options =
       occlusion_env::readSimulatorOptions(ros::NodeHandle(simulator));
 
   // In-process: the same options, seed and action sequence.
   occlusion_env::Environment environment(options.environment);
-  const std::vector<double> local = timeSteps(
-      steps, [&] { environment.reset(seed); },
-      [&](int i) {
-        const Clock::time_point start = Clock::now();
-        const occlusion_env::StepResult result = environment.step(actionAt(i));
-        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-        return StepTiming{ms, result.terminated || result.truncated};
-      });
-
-  // Over the service.
-  bool failed = false;
-  const std::vector<double> remote = timeSteps(
-      steps,
-      [&] {
-        occlusion_env::Reset reset;
-        reset.request.seed = seed;
-        failed |= !reset_client.call(reset) || reset.response.status.code != 0;
-      },
-      [&](int i) {
-        occlusion_env::Step step;
-        const occlusion_env::Action action = actionAt(i);
-        step.request.action.d_azimuth = action.d_azimuth_rad;
-        step.request.action.d_elevation = action.d_elevation_rad;
-        const Clock::time_point start = Clock::now();
-        failed |= !step_client.call(step) || step.response.status.code != 0;
-        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-        return StepTiming{ms, step.response.terminated || step.response.truncated};
-      });
-  if (failed) {
-    ROS_FATAL("a reset or step over the service failed");
-    return 1;
-  }
+  const auto timed_steps = [&](occlusion_env::EnvironmentInterface& target) {
+    return timeSteps(
+        steps, [&] { target.reset(seed); },
+        [&](int i) {
+          const Clock::time_point start = Clock::now();
+          const occlusion_env::StepResult result = target.step(actionAt(i));
+          const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+          return StepTiming{ms, result.terminated || result.truncated};
+        });
+  };
+  const std::vector<double> local = timed_steps(environment);
+  const std::vector<double> remote = timed_steps(client);
 
   const double local_median = percentile(local, 0.5);
   const double remote_median = percentile(remote, 0.5);
@@ -120,4 +94,18 @@ int main(int argc, char** argv) {
               remote_median - local_median);
   std::fflush(stdout);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "occlusion_service_bench");
+  ros::NodeHandle private_node("~");
+  ros::NodeHandle node(occlusion_env::names::kNamespace);
+  try {
+    return run(private_node, node);
+  } catch (const std::exception& error) {
+    ROS_FATAL_STREAM("occlusion_service_bench: " << error.what());
+    return 1;
+  }
 }

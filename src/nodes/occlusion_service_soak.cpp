@@ -19,7 +19,7 @@
 
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
-#include "occlusion_env/core/random.hpp"
+#include "occlusion_env/common/random.hpp"
 #include "occlusion_env/ros/names.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// occlusion_sim: the simulated active-perception camera as a ROS node (see doc/ros_interface.md).
+// occlusion_sim: the simulated active-perception camera as a ROS node (README, "ROS interface").
 #include <ros/ros.h>
 
 #include <exception>

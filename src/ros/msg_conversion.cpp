@@ -146,13 +146,60 @@ void viewObservation(const CameraObservation& message, Observation& observation,
   info.occlusion.total_pixels = message.occlusion.total_pixels;
   info.occlusion.occluded_area_pixels = message.occlusion.occluded_area_pixels;
   info.occlusion.union_pixels = message.occlusion.union_pixels;
-  info.occlusion.pairs.resize(message.occlusion.pairs.size());  // throws beyond 28 pairs
+  info.occlusion.pairs.resize(message.occlusion.pairs.size());  // throws beyond kMaxObjectPairs
   for (std::size_t i = 0; i < message.occlusion.pairs.size(); ++i) {
     info.occlusion.pairs[i].first = message.occlusion.pairs[i].first;
     info.occlusion.pairs[i].second = message.occlusion.pairs[i].second;
     info.occlusion.pairs[i].pixels = message.occlusion.pairs[i].pixels;
   }
   tf2::fromMsg(message.camera_pose.pose, info.world_from_optical);
+}
+
+EpisodeReport toEpisodeReport(const EpisodeRecord& record, int episode_index,
+                              const ros::Time& stamp) {
+  EpisodeReport report;
+  report.header.stamp = stamp;
+  report.agent = record.agent;
+  report.scene_set = record.scene_set;
+  report.episode_index = episode_index;
+  report.seed = record.scene_seed;
+  report.start_azimuth = record.start_azimuth_rad;
+  report.end = toString(record.end);
+  report.completed = record.completed();
+  report.success = record.success();
+  report.steps = record.steps;
+  report.max_steps = record.max_steps;
+  report.final_occlusion_pixels = record.final_occlusion_px;
+  report.azimuths.reserve(record.path.size());
+  report.elevations.reserve(record.path.size());
+  for (const SphericalPose& pose : record.path) {
+    report.azimuths.push_back(pose.azimuth_rad);
+    report.elevations.push_back(pose.elevation_rad);
+  }
+  report.wall_time = record.wall_time_s;
+  report.message = record.message;
+  return report;
+}
+
+EpisodeRecord fromEpisodeReport(const EpisodeReport& report) {
+  if (report.azimuths.size() != report.elevations.size()) {
+    throw std::invalid_argument("episode report: azimuths and elevations differ in length");
+  }
+  EpisodeRecord record;
+  record.agent = report.agent;
+  record.scene_set = report.scene_set;
+  record.scene_seed = report.seed;
+  record.start_azimuth_rad = report.start_azimuth;
+  record.end = parseEpisodeEnd(report.end);
+  record.steps = report.steps;
+  record.max_steps = report.max_steps;
+  record.final_occlusion_px = report.final_occlusion_pixels;
+  for (std::size_t i = 0; i < report.azimuths.size(); ++i) {
+    record.path.push_back({report.azimuths[i], report.elevations[i]});
+  }
+  record.wall_time_s = report.wall_time;
+  record.message = report.message;
+  return record;
 }
 
 visualization_msgs::MarkerArray toSceneMarkers(const Scene& scene, const std_msgs::Header& header) {

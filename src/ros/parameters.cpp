@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/ros/names.hpp"
 
 namespace occlusion_env {
@@ -181,7 +181,8 @@ const std::vector<std::string>& simulatorParameterNames() {
                                                   "gradient_method",
                                                   "gradient_blur_sigma",
                                                   "gradient_finite_difference_step",
-                                                  "gradient_zero_tolerance"};
+                                                  "gradient_zero_tolerance",
+                                                  "rasterizer_threads"};
   return kNames;
 }
 
@@ -223,10 +224,11 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   reader.read("optical_frame", options.optical_frame);
   reader.read("tf_rate", options.tf_rate_hz);
   reader.read("start_seed", options.start_seed);
-  reader.read("gradient_method", options.gradient_method);
-  reader.read("gradient_blur_sigma", options.gradient.blur_sigma_px);
-  reader.read("gradient_finite_difference_step", options.gradient.finite_difference_step_rad);
-  reader.read("gradient_zero_tolerance", options.gradient.zero_gradient_tolerance);
+  reader.read("gradient_method", environment.gradient_method);
+  reader.read("gradient_blur_sigma", environment.gradient.blur_sigma_px);
+  reader.read("gradient_finite_difference_step", environment.gradient.finite_difference_step_rad);
+  reader.read("gradient_zero_tolerance", environment.gradient.zero_gradient_tolerance);
+  reader.read("rasterizer_threads", environment.renderer.rasterizer_threads);
 
   const std::string prefix = "parameter " + private_node.getNamespace() + "/";
   try {
@@ -259,14 +261,6 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   }
   if (options.start_seed < -1) {
     throw ParameterError(prefix + "start_seed must be -1 (no reset at start-up) or a seed >= 0");
-  }
-  try {
-    makeOcclusionGradient(options.gradient_method, options.gradient);  // validates the options
-  } catch (const InvalidArgumentError& error) {
-    throw ParameterError(prefix + "gradient_*: " + error.what());
-  }
-  if (options.gradient.blur_sigma_px < 0.0 || options.gradient.blur_sigma_px > 256.0) {
-    throw ParameterError(prefix + "gradient_blur_sigma must be in [0, 256] px (0: automatic)");
   }
   return options;
 }

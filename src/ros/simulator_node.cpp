@@ -3,8 +3,10 @@
 #include <boost/make_shared.hpp>
 #include <sstream>
 
+#include <tf2_msgs/TFMessage.h>
+
 #include "occlusion_env/StepOutcome.h"
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/ros/msg_conversion.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/status.hpp"
@@ -26,15 +28,24 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
       node_(std::move(node)),
       private_node_(std::move(private_node)),
       environment_(options.environment),
-      analytic_gradient_(makeAnalyticGradient(options.gradient)),
-      finite_difference_gradient_(makeFiniteDifferenceGradient(options.gradient)),
+      analytic_gradient_(makeAnalyticGradient(options.environment.gradient)),
+      finite_difference_gradient_(makeFiniteDifferenceGradient(options.environment.gradient)),
       image_transport_(node_) {
   validateObjectParameters();
 
-  rgb_publisher_ = image_transport_.advertiseCamera(names::kRgbImageTopic, 2);
-  depth_publisher_ = image_transport_.advertiseCamera(names::kDepthImageTopic, 2);
-  occlusion_mask_publisher_ = image_transport_.advertise(names::kOcclusionMaskTopic, 2);
-  instance_mask_publisher_ = image_transport_.advertise(names::kInstanceMaskTopic, 2);
+  view_header_.frame_id = options_.optical_frame;
+  rgb_publisher_ = advertiseView(names::kRgbImageTopic, &Observation::rgb);
+  depth_publisher_ = advertiseView(names::kDepthImageTopic, &Observation::depth);
+  occlusion_mask_publisher_ =
+      advertiseView(names::kOcclusionMaskTopic, &Observation::occlusion_mask);
+  instance_mask_publisher_ = advertiseView(names::kInstanceMaskTopic, &Observation::instance);
+  tf_publisher_ = node_.advertise<tf2_msgs::TFMessage>(
+      "/tf", 100, [this](const ros::SingleSubscriberPublisher& link) {
+        if (view_header_.stamp.isZero()) return;
+        tf2_msgs::TFMessage message;
+        message.transforms.push_back(cameraTransform(view_header_.stamp));
+        link.publish(message);
+      });
   scene_markers_publisher_ = node_.advertise<visualization_msgs::MarkerArray>(
       names::kSceneMarkersTopic, 1, /*latch=*/true);
   step_outcome_publisher_ = node_.advertise<StepOutcome>(names::kStepOutcomeTopic, 10);
@@ -87,11 +98,27 @@ void SimulatorNode::validateObjectParameters() {
   }
 }
 
-std_msgs::Header SimulatorNode::viewHeader() const {
-  std_msgs::Header header;
-  header.stamp = ros::Time::now();
-  header.frame_id = options_.optical_frame;
-  return header;
+image_transport::CameraPublisher SimulatorNode::advertiseView(const std::string& topic,
+                                                              const cv::Mat Observation::*image) {
+  // The current view, sent to one new subscriber only: the others have it already.
+  const auto send_image = [this, image](const image_transport::SingleSubscriberPublisher& link) {
+    if (view_header_.stamp.isZero()) return;
+    sensor_msgs::Image message;
+    fillImage(environment_.observation().*image, view_header_, message);
+    link.publish(message);
+  };
+  const auto send_info = [this](const ros::SingleSubscriberPublisher& link) {
+    if (view_header_.stamp.isZero()) return;
+    link.publish(toCameraInfo(environment_.intrinsics(), view_header_));
+  };
+  return image_transport_.advertiseCamera(topic, 2, send_image,
+                                          image_transport::SubscriberStatusCallback(), send_info);
+}
+
+const std_msgs::Header& SimulatorNode::stampNewView() {
+  view_header_.stamp = ros::Time::now();
+  ++view_header_.seq;
+  return view_header_;
 }
 
 bool SimulatorNode::reset(Reset::Request& request, Reset::Response& response) {
@@ -103,9 +130,8 @@ bool SimulatorNode::reset(Reset::Request& request, Reset::Response& response) {
     if (request.set_start_azimuth) overrides.start_azimuth_rad = request.start_azimuth;
     if (request.set_start_elevation) overrides.start_elevation_rad = request.start_elevation;
     environment_.reset(request.seed, overrides);
-    const std_msgs::Header header = viewHeader();
-    fillObservation(environment_, header, options_.world_frame, response.observation);
-    publishView(header, /*scene_changed=*/true);
+    fillObservation(environment_, stampNewView(), options_.world_frame, response.observation);
+    publishView(/*scene_changed=*/true);
   });
   if (response.status.code != Status::OK) {
     ROS_WARN_STREAM("reset (seed " << request.seed << ") refused: " << response.status.message);
@@ -131,9 +157,8 @@ bool SimulatorNode::step(Step::Request& request, Step::Response& response) {
     response.truncated = result.truncated;
     response.occlusion_pixels = result.info.occlusion.total_pixels;
     response.status = runWithStatus([&] {
-      const std_msgs::Header header = viewHeader();
-      fillObservation(environment_, header, options_.world_frame, response.observation);
-      publishView(header, /*scene_changed=*/false);
+      fillObservation(environment_, stampNewView(), options_.world_frame, response.observation);
+      publishView(/*scene_changed=*/false);
     });
   }
   if (response.status.code != Status::OK) {
@@ -147,7 +172,7 @@ bool SimulatorNode::getOcclusionGradient(GetOcclusionGradient::Request& request,
   response.status = runWithStatus([&] {
     std::uint8_t method = request.method;
     if (method == GetOcclusionGradient::Request::DEFAULT) {
-      method = options_.gradient_method == "finite_difference"
+      method = options_.environment.gradient_method == "finite_difference"
                    ? GetOcclusionGradient::Request::FINITE_DIFFERENCE
                    : GetOcclusionGradient::Request::ANALYTIC;
     }
@@ -178,9 +203,12 @@ bool SimulatorNode::getOcclusionGradient(GetOcclusionGradient::Request& request,
 void SimulatorNode::onMove(const CameraMove::ConstPtr& move) {
   StepResult result;
   StepOutcome outcome;
-  outcome.header.stamp = ros::Time::now();
   outcome.header.frame_id = options_.world_frame;
   outcome.status = applyStep(*move, result);
+  // The outcome carries the stamp of the view it led to (its images and tf); a refused move
+  // changes nothing and is stamped when it was refused.
+  outcome.header.stamp =
+      outcome.status.code == Status::OK ? stampNewView().stamp : ros::Time::now();
   if (outcome.status.code == Status::OK) {
     outcome.reward = result.reward;
     outcome.terminated = result.terminated;
@@ -189,7 +217,7 @@ void SimulatorNode::onMove(const CameraMove::ConstPtr& move) {
     outcome.azimuth = result.info.pose.azimuth_rad;
     outcome.elevation = result.info.pose.elevation_rad;
     outcome.step_index = result.info.step_index;
-    outcome.status = runWithStatus([&] { publishView(viewHeader(), /*scene_changed=*/false); });
+    outcome.status = runWithStatus([&] { publishView(/*scene_changed=*/false); });
   }
   if (outcome.status.code != Status::OK) {
     ROS_WARN_STREAM("move refused: " << outcome.status.message);
@@ -197,7 +225,8 @@ void SimulatorNode::onMove(const CameraMove::ConstPtr& move) {
   step_outcome_publisher_.publish(outcome);
 }
 
-void SimulatorNode::publishView(const std_msgs::Header& header, bool scene_changed) {
+void SimulatorNode::publishView(bool scene_changed) {
+  const std_msgs::Header& header = view_header_;
   const Observation& observation = environment_.observation();
   if (rgb_publisher_.getNumSubscribers() > 0 || depth_publisher_.getNumSubscribers() > 0) {
     const auto camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
@@ -213,15 +242,14 @@ void SimulatorNode::publishView(const std_msgs::Header& header, bool scene_chang
       depth_publisher_.publish(image, camera_info);
     }
   }
-  if (occlusion_mask_publisher_.getNumSubscribers() > 0) {
+  for (auto [publisher, mat] :
+       {std::make_pair(&occlusion_mask_publisher_, &observation.occlusion_mask),
+        std::make_pair(&instance_mask_publisher_, &observation.instance)}) {
+    if (publisher->getNumSubscribers() == 0) continue;
     auto image = boost::make_shared<sensor_msgs::Image>();
-    fillImage(observation.occlusion_mask, header, *image);
-    occlusion_mask_publisher_.publish(image);
-  }
-  if (instance_mask_publisher_.getNumSubscribers() > 0) {
-    auto image = boost::make_shared<sensor_msgs::Image>();
-    fillImage(observation.instance, header, *image);
-    instance_mask_publisher_.publish(image);
+    fillImage(*mat, header, *image);
+    publisher->publish(image, boost::make_shared<sensor_msgs::CameraInfo>(
+                                  toCameraInfo(environment_.intrinsics(), header)));
   }
   broadcastCameraTransform(header.stamp);
   if (scene_changed) {
@@ -231,12 +259,17 @@ void SimulatorNode::publishView(const std_msgs::Header& header, bool scene_chang
   }
 }
 
-void SimulatorNode::broadcastCameraTransform(const ros::Time& stamp) {
-  if (!environment_.hasEpisode()) return;
+geometry_msgs::TransformStamped SimulatorNode::cameraTransform(const ros::Time& stamp) const {
   const Eigen::Isometry3d world_from_body =
       environment_.camera().worldFromBody(environment_.info().pose);
-  transform_broadcaster_.sendTransform(
-      toTransform(world_from_body, stamp, options_.world_frame, options_.camera_frame));
+  return toTransform(world_from_body, stamp, options_.world_frame, options_.camera_frame);
+}
+
+void SimulatorNode::broadcastCameraTransform(const ros::Time& stamp) {
+  if (!environment_.hasEpisode()) return;
+  tf2_msgs::TFMessage message;
+  message.transforms.push_back(cameraTransform(stamp));
+  tf_publisher_.publish(message);
 }
 
 void SimulatorNode::onTfTimer(const ros::TimerEvent& /*event*/) {

@@ -1,6 +1,6 @@
 #include "occlusion_env/ros/status.hpp"
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
 namespace occlusion_env {
@@ -10,6 +10,26 @@ Status makeStatus(std::uint8_t code, const std::string& message) {
   status.code = code;
   status.message = message;
   return status;
+}
+
+void throwForStatus(const Status& status, const std::string& what) {
+  const std::string message = what + ": " + status.message;
+  switch (status.code) {
+    case Status::OK:
+      return;
+    case Status::INVALID_ARGUMENT:
+      throw InvalidArgumentError(message);
+    case Status::INVALID_STATE:
+      throw InvalidStateError(message);
+    case Status::CATALOG_ERROR:
+      throw CatalogError(message);
+    case Status::RENDER_ERROR:
+      throw RenderError(message);
+    case Status::SCENE_GENERATION_ERROR:
+      throw SceneGenerationError(message);
+    default:
+      throw std::runtime_error(message + " (status " + std::to_string(status.code) + ")");
+  }
 }
 
 Status statusFromException(const std::exception_ptr& error) {

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "occlusion_env/core/errors.hpp"  // quoted()
+#include "occlusion_env/common/errors.hpp"  // quoted()
 
 namespace occlusion_env::tools {
 namespace {

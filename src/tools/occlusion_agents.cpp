@@ -1,9 +1,8 @@
-// occlusion_agents: runs the random and the gradient agent on N seeded scenes, in process, and
-// prints the steps each needs to an unoccluded view (the paper's Table 4 protocol).
+// occlusion_agents: runs agents of the registry on N seeded scenes, in process, and prints the
+// steps each needs to an unoccluded view (the paper's Table 4 protocol).
 //   occlusion_agents --scenes 50
 //   occlusion_agents --scenes 50 --source sweethome3d --category chair --category table
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -11,18 +10,21 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/agent.hpp"
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/agents/core_agents.hpp"
+#include "occlusion_env/agents/episode_runner.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {
 
 constexpr const char* kUsage = R"(Usage: occlusion_agents [options]
-Runs the random and the gradient agent on the same seeded scenes (start azimuth 0) and prints,
-per agent, the mean and standard deviation of the steps to an unoccluded view (a failure counts
-as --max-steps), the number of failures and the success rate.
+Runs agents on the same seeded scenes (start azimuth 0) and prints, per agent, the mean and
+standard deviation of the steps to an unoccluded view (a failure counts as --max-steps), the
+number of failures and the success rate.
 
 Options:
+  --agents A,B,...    agents by name (default: every competing agent; --help lists them)
   --scenes N          number of scenes, seeds first-seed .. first-seed + N - 1 (default 50)
   --first-seed N      (default 0)
   --max-steps N       steps per episode (default 50)
@@ -30,8 +32,11 @@ Options:
   --path P            a .sh3f file or folder (sweethome3d), the root (folder); repeatable
   --category C        draw objects of this category only; repeatable
   --size N            image width and height [px] (default 256)
-  --gradient M        analytic | finite_difference (default analytic)
+  --gradient M        the simulator's gradient: analytic | finite_difference (default analytic)
+  --agents-markdown   print the registry's agents as the README's Markdown table and exit
   --help              this text
+
+Agents:
 )";
 
 [[noreturn]] void fail(const std::string& message) {
@@ -41,21 +46,48 @@ Options:
 
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
+  std::vector<std::string> agents;  // empty: the registry's competitors
   int scenes = 50;
   int first_seed = 0;
   int max_steps = 50;
-  std::string gradient = "analytic";
 };
 
-Arguments parse(int argc, char** argv) {
+void printUsage(const occlusion_env::AgentRegistry& registry) {
+  std::cout << kUsage;
+  for (const occlusion_env::AgentEntry& entry : registry.entries()) {
+    std::cout << "  " << std::left << std::setw(18) << entry.name << " " << entry.summary
+              << (entry.competes ? "" : " (a reference, not a competitor)") << "\n";
+  }
+}
+
+// The README's table of agents (between its agents-table markers).
+void printAgentsMarkdown(const occlusion_env::AgentRegistry& registry) {
+  std::cout << "| agent | what it does | needs | paper |\n| --- | --- | --- | --- |\n";
+  for (const occlusion_env::AgentEntry& entry : registry.entries()) {
+    std::string needs;
+    if (entry.needs.occlusion_gradient) needs += "the simulator's gradient service; ";
+    if (entry.needs.simulation) needs += "the in-process simulation (a reference); ";
+    if (entry.needs.model_file) needs += "a model file; ";
+    needs = needs.empty() ? "RGB-D only" : needs.substr(0, needs.size() - 2);
+    std::cout << "| `" << entry.name << "` | " << entry.summary << " | " << needs << " | "
+              << (entry.paper_label.empty() ? "-" : entry.paper_label) << " |\n";
+  }
+}
+
+Arguments parse(int argc, char** argv, const occlusion_env::AgentRegistry& registry) {
   Arguments args;
   occlusion_env::tools::ArgumentReader reader(argc, argv);
   try {
     while (reader.next()) {
       const std::string& flag = reader.flag();
       if (flag == "--help" || flag == "-h") {
-        std::cout << kUsage;
+        printUsage(registry);
         std::exit(0);
+      } else if (flag == "--agents-markdown") {
+        printAgentsMarkdown(registry);
+        std::exit(0);
+      } else if (flag == "--agents") {
+        args.agents = reader.list();
       } else if (flag == "--scenes") {
         args.scenes = static_cast<int>(reader.integer(1, 1000000));
       } else if (flag == "--first-seed") {
@@ -71,7 +103,7 @@ Arguments parse(int argc, char** argv) {
       } else if (flag == "--size") {
         args.options.width = args.options.height = static_cast<int>(reader.integer(64, 1000000));
       } else if (flag == "--gradient") {
-        args.gradient = reader.text();
+        args.options.gradient_method = reader.text();
       } else {
         reader.unknown();
       }
@@ -83,32 +115,26 @@ Arguments parse(int argc, char** argv) {
   return args;
 }
 
-struct Tally {
-  std::vector<double> steps;  // failures counted at max_steps
-  int failures = 0;
-  int random_moves = 0;  // gradient agent: moves made at random on an invalid gradient
-  int total_moves = 0;
-};
-
-int run(const Arguments& args) {
+int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
   using namespace occlusion_env;
-  Environment env(args.options);
-  std::unique_ptr<OcclusionGradient> gradient = makeOcclusionGradient(args.gradient);
-  RandomAgent random_agent;
-  GradientAgent gradient_agent(gradientSourceFor(env, *gradient));
-  Agent* agents[] = {&random_agent, &gradient_agent};
-  Tally tallies[2];
-  ResetOptions reset;
-  reset.start_azimuth_rad = 0.0;
+  const std::vector<std::string> names = args.agents.empty() ? registry.competitors() : args.agents;
+  Environment environment(args.options);
+  std::vector<std::unique_ptr<Agent>> agents;
+  for (const std::string& name : names) agents.push_back(registry.make(name, {environment, ""}));
+  std::vector<std::vector<EpisodeRecord>> episodes(names.size());
+  EpisodeRunOptions run_options;
+  run_options.max_steps = args.max_steps;
   const auto start = std::chrono::steady_clock::now();
   for (int scene = 0; scene < args.scenes; ++scene) {
-    const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
-    for (int a = 0; a < 2; ++a) {
-      const EpisodeResult episode = runEpisode(env, *agents[a], seed, reset, args.max_steps);
-      tallies[a].steps.push_back(episode.success ? episode.steps : args.max_steps);
-      tallies[a].failures += !episode.success;
-      tallies[a].total_moves += episode.steps;
-      if (agents[a] == &gradient_agent) tallies[a].random_moves += gradient_agent.randomMoves();
+    EpisodeRequest request;
+    request.seed = static_cast<std::uint64_t>(args.first_seed + scene);
+    request.scene_set = "occlusion_agents";
+    request.reset.start_azimuth_rad = 0.0;
+    for (std::size_t a = 0; a < names.size(); ++a) {
+      request.agent = names[a];
+      EpisodeRecord record = runEpisode(environment, *agents[a], request, run_options);
+      if (!record.completed()) throw std::runtime_error(names[a] + ": " + record.message);
+      episodes[a].push_back(std::move(record));
     }
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -120,25 +146,16 @@ int run(const Arguments& args) {
   std::cout << "source " << args.options.catalog.source << ", " << args.scenes << " scenes (seeds "
             << args.first_seed << ".." << args.first_seed + args.scenes - 1
             << "), start azimuth 0, " << args.options.width << " px, max " << args.max_steps
-            << " steps, gradient " << gradient->name() << "\n";
+            << " steps, gradient " << args.options.gradient_method << "\n";
   std::cout << "agent     steps mean +/- std   failures   success\n";
-  for (int a = 0; a < 2; ++a) {
-    const Tally& tally = tallies[a];
-    double mean = 0.0, squares = 0.0;
-    for (double steps : tally.steps) mean += steps / tally.steps.size();
-    for (double steps : tally.steps) squares += (steps - mean) * (steps - mean);
-    const double stddev =
-        tally.steps.size() > 1 ? std::sqrt(squares / (tally.steps.size() - 1)) : 0.0;
-    const int n = static_cast<int>(tally.steps.size());
-    std::cout << std::left << std::setw(9) << agents[a]->name() << std::right << std::fixed
-              << std::setprecision(1) << std::setw(7) << mean << " +/- " << std::setw(5) << stddev
-              << "   " << std::setw(4) << tally.failures << "/" << n << "   " << std::setw(6)
-              << 100.0 * (n - tally.failures) / n << " %";
-    if (agents[a] == &gradient_agent) {
-      std::cout << "   (" << tally.random_moves << " of " << tally.total_moves
-                << " moves random on an invalid gradient)";
-    }
-    std::cout << "\n";
+  for (std::size_t a = 0; a < names.size(); ++a) {
+    const EpisodeStatistics stats = summarizeEpisodes(episodes[a]);
+    const int failures = stats.completed - stats.successes;
+    std::cout << std::left << std::setw(9) << names[a] << std::right << std::fixed
+              << std::setprecision(1) << std::setw(7) << stats.mean_steps << " +/- " << std::setw(5)
+              << (stats.completed > 1 ? stats.sd_steps : 0.0) << "   " << std::setw(4) << failures
+              << "/" << stats.completed << "   " << std::setw(6) << 100.0 * stats.successRate()
+              << " %\n";
   }
   return 0;
 }
@@ -146,9 +163,10 @@ int run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Arguments args = parse(argc, argv);
+  const occlusion_env::AgentRegistry registry = occlusion_env::coreAgents();
+  const Arguments args = parse(argc, argv, registry);
   try {
-    return run(args);
+    return run(args, registry);
   } catch (const std::exception& error) {
     std::cerr << "occlusion_agents: " << error.what() << "\n";
     return 1;

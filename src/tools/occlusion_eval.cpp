@@ -16,12 +16,14 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/agents/core_agents.hpp"
+#include "occlusion_env/agents/episode_runner.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/eval/best.hpp"
 #include "occlusion_env/eval/evaluation.hpp"
 #include "occlusion_env/eval/landscape.hpp"
 #include "occlusion_env/eval/progress.hpp"
-#include "occlusion_env/eval/scene_set.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/eval/sweep.hpp"
@@ -33,6 +35,12 @@ using namespace occlusion_env::eval;  // NOLINT
 
 namespace {
 
+// Every agent this tool knows.
+const AgentRegistry& registry() {
+  static const AgentRegistry agents = coreAgents();
+  return agents;
+}
+
 constexpr const char* kUsage = R"(usage: occlusion_eval MODE [options]
 modes (one):
   --scenes FILE        run the agents on a scene set (config/scenes/*.yaml)
@@ -43,7 +51,7 @@ modes (one):
   --all                both held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
                        with RESULTS.md in --out (and the --report document)
 options:
-  --agents A,B,...     agents by name (default random,gradient)
+  --agents A,B,...     agents by name (default: every competing agent of the registry)
   --max-steps N        step limit per episode (default 50; 2000 for --sweep)
   --limit N            only the first N scenes of the set
   --sweep-source SRC   object source of the sweep's preset scene (default embedded)
@@ -63,8 +71,8 @@ struct CommandLine {
   std::string summarize;
   std::string landscape;
   bool all = false;
-  std::vector<std::string> agents = {"random", "gradient"};
-  int max_steps = -1;  // -1: the mode's default
+  std::vector<std::string> agents;  // empty: the registry's competitors
+  int max_steps = -1;               // -1: the mode's default
   int limit = -1;
   std::string sweep_source = "embedded";
   std::string out = "evaluation";
@@ -92,6 +100,7 @@ CommandLine parse(int argc, char** argv) {
       cl.all = true;
     } else if (arg == "--agents") {
       cl.agents = args.list();
+      if (cl.agents.empty()) throw InvalidArgumentError("--agents: no agent named");
     } else if (arg == "--max-steps") {
       cl.max_steps = static_cast<int>(args.integer(1, 1000000));
     } else if (arg == "--limit") {
@@ -125,7 +134,6 @@ CommandLine parse(int argc, char** argv) {
     throw InvalidArgumentError(
         "give exactly one of --scenes, --sweep, --summarize, --landscape, --all");
   }
-  if (cl.agents.empty()) throw InvalidArgumentError("--agents: no agent named");
   if (!cl.report.empty() && !cl.all) throw InvalidArgumentError("--report needs --all");
   if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
   return cl;
@@ -146,7 +154,7 @@ void runPlots(const CommandLine& cl, std::vector<std::string> plot_args) {
 std::string summarize(const CommandLine& cl, const std::vector<EpisodeRecord>& records,
                       const std::string& name, const std::string& episodes_csv) {
   std::cerr << "occlusion_eval: paired BEST (JAGS) for every pair of agents...\n";
-  const auto agents = summarizeAgents(records);
+  const auto agents = summarizeAgents(records, registry());
   const auto comparisons = compareAgents(records, cl.best);
   const std::string prefix = (fs::path(cl.out) / name).string() + "_";
   writeComparisonCsv(comparisons, prefix + "best_pairs.csv");
@@ -177,9 +185,9 @@ std::vector<EpisodeRecord> runPlan(const CommandLine& cl, const EvaluationPlan& 
                                    const std::string& csv_path) {
   std::ofstream csv(csv_path);
   if (!csv) throw InvalidArgumentError("cannot write " + csv_path);
-  ProgressBar progress(std::cerr, plan.episodes(), plan.scenes.name);
+  ProgressBar progress(std::cerr, plan.episodes(registry()), plan.scenes.name);
   progress.update(0, "starting");
-  auto records = runEvaluation(plan, AgentRegistry::withBuiltinAgents(), &csv, &progress);
+  auto records = runEvaluation(plan, registry(), &csv, &progress);
   std::cerr << "occlusion_eval: wrote " << csv_path << "\n";
   return records;
 }
@@ -215,17 +223,19 @@ std::string runSweep(const CommandLine& cl, const std::string& preset) {
      << plan.scenes.seeds.front() << "), start azimuth over [-pi/32, pi/32) in steps of pi/208, "
      << plan.max_steps
      << " steps at most; `F` = failed within the limit.\n\n| Start azimuth [deg] |";
-  for (const auto& agent : plan.agents) md << " " << agent << " |";
+  const std::vector<std::string> agents =
+      plan.agents.empty() ? registry().competitors() : plan.agents;
+  for (const auto& agent : agents) md << " " << agent << " |";
   md << "\n|---:|";
-  for (std::size_t i = 0; i < plan.agents.size(); ++i) md << "---:|";
+  for (std::size_t i = 0; i < agents.size(); ++i) md << "---:|";
   md << "\n";
   const auto azimuths = plan.start_azimuths_rad;
   for (std::size_t k = 0; k < azimuths.size(); ++k) {
     md << "| " << std::fixed << std::setprecision(2) << azimuths[k] * 180.0 / M_PI << " |";
-    for (const auto& agent : plan.agents) {
+    for (const auto& agent : agents) {
       for (const auto& record : records) {
         if (record.agent == agent && record.start_azimuth_rad == azimuths[k]) {
-          md << " " << (record.success ? std::to_string(record.steps) : "F") << " |";
+          md << " " << (record.success() ? std::to_string(record.steps) : "F") << " |";
         }
       }
     }
@@ -243,11 +253,18 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
   const std::uint64_t seed = set.seeds.front();
   const int max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
   Environment env(environmentOptionsFor(set));
-  const AgentRegistry registry = AgentRegistry::withBuiltinAgents();
-  std::vector<AgentPath> paths;
-  for (const std::string& name : cl.agents) {
-    const std::unique_ptr<Agent> agent = registry.make(name, env);
-    paths.push_back({name, runEpisode(env, *agent, seed, resetOptionsFor(set), max_steps)});
+  std::vector<EpisodeRecord> paths;
+  EpisodeRunOptions run_options;
+  run_options.max_steps = max_steps;
+  for (const std::string& name : cl.agents.empty() ? registry().competitors() : cl.agents) {
+    const std::unique_ptr<Agent> agent = registry().make(name, {env, ""});
+    EpisodeRequest request;
+    request.agent = name;
+    request.scene_set = set.name;
+    request.seed = seed;
+    request.reset = resetOptionsFor(set);
+    paths.push_back(runEpisode(env, *agent, request, run_options));
+    if (!paths.back().completed()) throw std::runtime_error(name + ": " + paths.back().message);
   }
   env.reset(seed, resetOptionsFor(set));
   const LandscapeGrid grid = gridAround(paths, /*margin_rad=*/0.15, /*min_half_width_rad=*/0.6,
@@ -260,7 +277,6 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
   writeEpisodePathsCsv(paths, paths_csv);
   std::cerr << "occlusion_eval: wrote " << landscape_csv << " (" << poses << " views)\n";
   runPlots(cl, {"--landscape", landscape_csv, "--paths", paths_csv});
-  std::cerr << "occlusion_eval: wrote " << landscape_csv << " (" << poses << " views)\n";
 
   std::ostringstream md;
   md << "## One scene from above: occlusion over the camera angles\n\n"
@@ -272,9 +288,9 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
         "(circle) to its last "
         "view (star: unoccluded; cross: still occluded after "
      << max_steps << " steps).";
-  for (const AgentPath& path : paths) {
-    md << " " << path.agent << ": " << path.episode.steps << " steps, "
-       << (path.episode.success ? "unoccluded." : "failed.");
+  for (const EpisodeRecord& path : paths) {
+    md << " " << path.agent << ": " << path.steps << " steps, "
+       << (path.success() ? "unoccluded." : "failed.");
   }
   md << "\n\n";
   if (cl.plots) md << "![occlusion landscape](" << stem << ".png)\n";
@@ -290,11 +306,13 @@ std::string reportIntroduction(const CommandLine& cl) {
        << "which runs `occlusion_eval --all --out doc/evaluation --report EVALUATION.md` "
           "(tables, CSVs and plots in [doc/evaluation/](doc/evaluation/)). Do not edit this file "
           "by hand: re-run the command.\n\n"
-       << "**Agents.** `random`: a unit move in a uniformly random direction of the "
-          "(azimuth, elevation) plane. `gradient` (the paper's Env. Grad): a unit move along the "
-          "negative analytic gradient of the smooth occlusion loss L_s "
-          "([doc/GRADIENT.md](doc/GRADIENT.md)), a random one when the gradient is invalid. Each "
-          "move turns the camera by 0.05 rad on its sphere (r = 4 m, 60 deg field of view, "
+       << "**Agents** (from the agent registry, `include/occlusion_env/agents/`):";
+  for (const AgentEntry& entry : registry().entries()) {
+    text << " `" << entry.name << "`"
+         << (entry.paper_label.empty() ? "" : " (the paper's " + entry.paper_label + ")") << ": "
+         << entry.summary << ".";
+  }
+  text << " Each move turns the camera by 0.05 rad on its sphere (r = 4 m, 60 deg field of view, "
           "256 x 256 px). Agents are seeded with the scene seed: a run is reproducible.\n\n"
        << "**Scenes.** The held-out scene sets `config/scenes/test_embedded.yaml` (our embedded "
           "meshes) and `config/scenes/test_sweethome3d.yaml` (Debian's Sweet Home 3D chairs and "

@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/camera.hpp"
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/lod_quality.hpp"
-#include "occlusion_env/core/object_library.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/render/lod_quality.hpp"
+#include "occlusion_env/render/osmesa_renderer.hpp"
+#include "occlusion_env/scene/object_library.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {

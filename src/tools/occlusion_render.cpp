@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/visualization.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/render/visualization.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {

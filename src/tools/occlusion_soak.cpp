@@ -13,9 +13,9 @@
 #include <iostream>
 #include <string>
 
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/random.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/random.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {

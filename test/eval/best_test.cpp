@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
-#include "occlusion_env/core/errors.hpp"
-#include "occlusion_env/core/random.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/random.hpp"
 
 namespace occlusion_env {
 namespace eval {

@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
-#include "occlusion_env/core/agent.hpp"
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/agents/agent.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/landscape.hpp"
 
 namespace occlusion_env {
@@ -64,10 +64,12 @@ TEST(Landscape, SamplesTheGridAndLeavesTheEpisodeAlone) {
 }
 
 TEST(Landscape, GridHoldsEveryPathPoseWithinTheElevationLimit) {
-  AgentPath first{"gradient", {}};
-  first.episode.path = {{0.2, 0.0}, {-0.9, 0.1}};
-  AgentPath second{"random", {}};
-  second.episode.path = {{0.2, 0.0}, {0.5, -1.3}};
+  EpisodeRecord first;
+  first.agent = "gradient";
+  first.path = {{0.2, 0.0}, {-0.9, 0.1}};
+  EpisodeRecord second;
+  second.agent = "random";
+  second.path = {{0.2, 0.0}, {0.5, -1.3}};
   const LandscapeGrid grid = gridAround({first, second}, 0.1, 0.3, 0.025, 1.2);
   EXPECT_DOUBLE_EQ(grid.azimuth_min_rad, -1.0);
   EXPECT_DOUBLE_EQ(grid.azimuth_max_rad, 0.6);

@@ -1,4 +1,4 @@
-// Episode CSV round trip, Table 4 figures and the Markdown summary.
+// Table 4 figures and the Markdown summary (the episode CSV is tested in test/agents/).
 #include "occlusion_env/eval/summary.hpp"
 
 #include <gtest/gtest.h>
@@ -8,88 +8,52 @@
 #include <fstream>
 #include <sstream>
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/agents/core_agents.hpp"
+#include "occlusion_env/common/errors.hpp"
 
 namespace occlusion_env {
 namespace eval {
 namespace {
+
+EpisodeRecord record(const std::string& agent, std::uint64_t seed, int steps, bool success) {
+  EpisodeRecord record;
+  record.agent = agent;
+  record.scene_set = "set";
+  record.scene_seed = seed;
+  record.max_steps = 50;
+  record.steps = steps;
+  record.end = success ? EpisodeEnd::kSuccess : EpisodeEnd::kStepLimit;
+  record.final_occlusion_px = success ? 0 : 12;
+  record.wall_time_s = 0.5;
+  return record;
+}
 
 std::vector<EpisodeRecord> syntheticRecords() {
   // random: 10..19 steps on scenes 0..9, scene 9 failed (50 steps counted);
   // gradient: 4 fewer steps on every scene, varied by +/- 1.
   std::vector<EpisodeRecord> records;
   for (int scene = 0; scene < 10; ++scene) {
-    EpisodeRecord random{"random", "set", 1'000'000u + scene, 0.0, 50, 10 + scene, scene != 9,
-                         12.0,     0.5};
-    if (scene == 9) random.steps = 50;
-    EpisodeRecord gradient = random;
-    gradient.agent = "gradient";
-    gradient.steps = 6 + scene + (scene % 2 == 0 ? 1 : -1);
-    gradient.success = true;
-    gradient.final_occlusion_px = 0.0;
-    records.push_back(random);
-    records.push_back(gradient);
+    const std::uint64_t seed = 1'000'000u + scene;
+    records.push_back(record("random", seed, scene == 9 ? 50 : 10 + scene, scene != 9));
+    records.push_back(record("gradient", seed, 6 + scene + (scene % 2 == 0 ? 1 : -1), true));
   }
   return records;
 }
 
-TEST(EpisodeCsv, RoundTripsEveryField) {
-  const auto records = syntheticRecords();
-  const auto path = (std::filesystem::temp_directory_path() / "episodes_test.csv").string();
-  {
-    std::ofstream out(path);
-    out << episodeCsvHeader() << "\n";
-    for (const auto& record : records) writeEpisodeCsvRow(out, record);
-  }
-  const auto loaded = readEpisodeCsv(path);
-  ASSERT_EQ(loaded.size(), records.size());
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    EXPECT_EQ(loaded[i].agent, records[i].agent);
-    EXPECT_EQ(loaded[i].scene_seed, records[i].scene_seed);
-    EXPECT_EQ(loaded[i].steps, records[i].steps);
-    EXPECT_EQ(loaded[i].success, records[i].success);
-    EXPECT_EQ(loaded[i].max_steps, records[i].max_steps);
-    EXPECT_EQ(loaded[i].final_occlusion_px, records[i].final_occlusion_px);
-  }
-  std::ofstream(path, std::ios::app) << "random,set,1,0,50,x,1,0,0\n";
-  EXPECT_THROW(readEpisodeCsv(path), InvalidArgumentError);
-  std::remove(path.c_str());
-
-  std::ostringstream sink;
-  EpisodeRecord bad = records[0];
-  bad.agent = "a,b";
-  EXPECT_THROW(writeEpisodeCsvRow(sink, bad), InvalidArgumentError);
-}
-
-TEST(Summary, ReadsAgentNodeCsvsAndRefusesCutShortEpisodes) {
-  // An agent node's CSV: our nine columns, then completed, message and the camera path.
-  const std::string path = ::testing::TempDir() + "/agent_node_episodes.csv";
-  const std::string header = episodeCsvHeader() + ",completed,message,azimuths_rad,elevations_rad";
-  std::ofstream(path) << header << "\n"
-                      << "gradient,ros,7,0,50,2,1,0,0.01,1,,0;0.05;0.1,0;0;0\n";
-  const auto loaded = readEpisodeCsv(path);
-  ASSERT_EQ(loaded.size(), 1u);
-  EXPECT_EQ(loaded[0].agent, "gradient");
-  EXPECT_EQ(loaded[0].scene_seed, 7u);
-  EXPECT_EQ(loaded[0].steps, 2);
-  EXPECT_TRUE(loaded[0].success);
-
-  std::ofstream(path, std::ios::app) << "gradient,ros,8,0,50,3,0,12,0.01,0,lost the simulator: "
-                                        "step failed,0;0.05;0.1;0.15,0;0;0;0\n";
+TEST(Summary, RefusesCutShortEpisodes) {
+  std::vector<EpisodeRecord> records = syntheticRecords();
+  records[3].end = EpisodeEnd::kEnvironmentLost;
+  records[3].message = "lost the environment at step 3";
   try {
-    readEpisodeCsv(path);
+    summarizeAgents(records, coreAgents());
     ADD_FAILURE() << "a cut-short episode was accepted";
   } catch (const InvalidArgumentError& error) {
-    EXPECT_NE(std::string(error.what()).find(":3:"), std::string::npos) << error.what();
     EXPECT_NE(std::string(error.what()).find("cut short"), std::string::npos) << error.what();
   }
-  std::ofstream(path) << episodeCsvHeader() << "X\n";
-  EXPECT_THROW(readEpisodeCsv(path), InvalidArgumentError);
-  std::remove(path.c_str());
 }
 
 TEST(Summary, CountsFailuresWithTheStepLimit) {
-  const auto summaries = summarizeAgents(syntheticRecords());
+  const auto summaries = summarizeAgents(syntheticRecords(), coreAgents());
   ASSERT_EQ(summaries.size(), 2u);
   EXPECT_EQ(summaries[0].agent, "random");
   EXPECT_EQ(summaries[0].episodes, 10);
@@ -110,7 +74,8 @@ TEST(Summary, MarkdownHasBothTablesWithPaperFigures) {
   EXPECT_EQ(comparisons[0].second, "gradient");
   EXPECT_EQ(comparisons[0].best.pairs, 10);
   EXPECT_GT(comparisons[0].best.probability_mu_positive, 0.95);  // gradient needs fewer steps
-  const std::string md = renderSummaryMarkdown("Test", "", summarizeAgents(records), comparisons);
+  const std::string md =
+      renderSummaryMarkdown("Test", "", summarizeAgents(records, coreAgents()), comparisons);
   EXPECT_NE(md.find("| random (Random) | 10 | 9 | 90.0 % | 1 (50) | 17.6 |"), std::string::npos)
       << md;
   EXPECT_NE(md.find("31.5 | 13.9"), std::string::npos);
@@ -122,13 +87,14 @@ TEST(Summary, IdenticalAgentsGiveNoVariationRow) {
   std::vector<EpisodeRecord> records;
   for (int scene = 0; scene < 5; ++scene) {
     for (const char* agent : {"a", "b"}) {
-      records.push_back({agent, "set", 1'000'000u + scene, 0.0, 50, 50, false, 3.0, 0.1});
+      records.push_back(record(agent, 1'000'000u + scene, 50, false));
     }
   }
   const auto comparisons = compareAgents(records);
   ASSERT_EQ(comparisons.size(), 1u);
   EXPECT_TRUE(comparisons[0].best.no_variation);
-  const std::string md = renderSummaryMarkdown("T", "", summarizeAgents(records), comparisons);
+  const std::string md =
+      renderSummaryMarkdown("T", "", summarizeAgents(records, coreAgents()), comparisons);
   EXPECT_NE(md.find("no variation"), std::string::npos) << md;
 }
 

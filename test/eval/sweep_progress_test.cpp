@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "occlusion_env/core/errors.hpp"
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/sweep.hpp"
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-#include "../../src/core/java_properties.hpp"
-#include "occlusion_env/core/errors.hpp"
+#include "../../src/scene/catalogs/java_properties.hpp"
+#include "occlusion_env/common/errors.hpp"
 
 namespace {
 

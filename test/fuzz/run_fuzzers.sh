@@ -16,7 +16,7 @@ mkdir -p "$build_dir"
 flags=(-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined
        -I"$source_dir/include")
 fuzzer="$build_dir/java_properties_fuzzer"
-if ! "$compiler" "${flags[@]}" "$source_dir/src/core/java_properties.cpp" \
+if ! "$compiler" "${flags[@]}" "$source_dir/src/scene/catalogs/java_properties.cpp" \
      "$source_dir/test/fuzz/java_properties_fuzzer.cpp" -o "$fuzzer" 2> "$build_dir/build.log"; then
   if grep -q "fuzzer" "$build_dir/build.log"; then
     echo "run_fuzzers: libFuzzer is not available to $compiler; skipped" >&2

@@ -15,9 +15,9 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/StepOutcome.h"
-#include "occlusion_env/core/object_catalog.hpp"
-#include "occlusion_env/core/random.hpp"
+#include "occlusion_env/common/random.hpp"
 #include "occlusion_env/ros/names.hpp"
+#include "occlusion_env/scene/object_catalog.hpp"
 
 namespace occlusion_env {
 namespace {

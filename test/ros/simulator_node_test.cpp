@@ -9,6 +9,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -22,8 +23,8 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/StepOutcome.h"
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/occlusion_gradient.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
@@ -189,16 +190,18 @@ TEST(SimulatorNode, GradientServiceMatchesTheInProcessGradients) {
   const struct {
     std::uint8_t method;
     std::string name;
-  } methods[] = {{GetOcclusionGradient::Request::DEFAULT, nodeOptions().gradient_method},
-                 {GetOcclusionGradient::Request::ANALYTIC, "analytic"},
-                 {GetOcclusionGradient::Request::FINITE_DIFFERENCE, "finite_difference"}};
+  } methods[] = {
+      {GetOcclusionGradient::Request::DEFAULT, nodeOptions().environment.gradient_method},
+      {GetOcclusionGradient::Request::ANALYTIC, "analytic"},
+      {GetOcclusionGradient::Request::FINITE_DIFFERENCE, "finite_difference"}};
   for (const auto& method : methods) {
     SCOPED_TRACE(method.name);
     const GetOcclusionGradient::Response response = callGradient(method.method);
     ASSERT_EQ(response.status.code, Status::OK) << response.status.message;
     EXPECT_EQ(response.method_name, method.name);
     const GradientResult local =
-        makeOcclusionGradient(method.name, nodeOptions().gradient)->compute(localEnvironment());
+        makeOcclusionGradient(method.name, nodeOptions().environment.gradient)
+            ->compute(localEnvironment());
     EXPECT_EQ(response.valid, local.valid);
     EXPECT_EQ(response.reason, local.reason);
     EXPECT_DOUBLE_EQ(response.loss, local.loss);
@@ -251,7 +254,9 @@ TEST(SimulatorNode, EveryTopicIsPublishedWithTheRightTypeAndSize) {
           images[name] = *image;
         }));
   }
-  for (const char* topic : {names::kRgbCameraInfoTopic, names::kDepthCameraInfoTopic}) {
+  for (const char* topic :
+       {names::kRgbCameraInfoTopic, names::kDepthCameraInfoTopic,
+        names::kOcclusionMaskCameraInfoTopic, names::kInstanceMaskCameraInfoTopic}) {
     const std::string name = topic;
     subscribers.push_back(node.subscribe<sensor_msgs::CameraInfo>(
         name, 1, [&, name](const sensor_msgs::CameraInfo::ConstPtr& info) {
@@ -266,13 +271,21 @@ TEST(SimulatorNode, EveryTopicIsPublishedWithTheRightTypeAndSize) {
         have_markers = true;
       }));
 
-  // The node builds image messages only for connected subscribers: reset until all arrive.
+  // The node builds image messages only for connected subscribers (and sends each new one the
+  // current view): reset until every topic has the reset's view.
   Reset::Response reset;
   const bool received = waitFor(
       [&] {
         reset = callReset(5);
+        ros::Duration(0.1).sleep();
         std::lock_guard<std::mutex> lock(mutex);
-        return images.size() == 4 && infos.size() == 2 && have_markers;
+        const ros::Time stamp = reset.observation.header.stamp;
+        const auto current = [&stamp](const auto& entry) {
+          return entry.second.header.stamp == stamp;
+        };
+        return images.size() == 4 && infos.size() == 4 && have_markers &&
+               std::all_of(images.begin(), images.end(), current) &&
+               std::all_of(infos.begin(), infos.end(), current);
       },
       20.0);
   ASSERT_TRUE(received) << images.size() << " image topics, " << infos.size() << " infos";
@@ -352,9 +365,20 @@ TEST(SimulatorNode, MoveTopicAppliesAStepAndReportsIt) {
         std::lock_guard<std::mutex> lock(mutex);
         outcomes.push_back(*outcome);
       });
+  std::vector<sensor_msgs::Image> images;
+  ros::Subscriber image_subscriber = node.subscribe<sensor_msgs::Image>(
+      names::kDepthImageTopic, 10, [&](const sensor_msgs::Image::ConstPtr& image) {
+        std::lock_guard<std::mutex> lock(mutex);
+        images.push_back(*image);
+      });
+  tf2_ros::Buffer buffer;
+  tf2_ros::TransformListener listener(buffer);
   ros::Publisher publisher = node.advertise<CameraMove>(names::kMoveTopic, 10);
   ASSERT_TRUE(waitFor(
-      [&] { return publisher.getNumSubscribers() > 0 && subscriber.getNumPublishers() > 0; },
+      [&] {
+        return publisher.getNumSubscribers() > 0 && subscriber.getNumPublishers() > 0 &&
+               image_subscriber.getNumPublishers() > 0;
+      },
       10.0));
   ros::Duration(0.3).sleep();  // let the node's side of both connections settle
   const Reset::Response reset = callReset(4);
@@ -377,6 +401,24 @@ TEST(SimulatorNode, MoveTopicAppliesAStepAndReportsIt) {
   EXPECT_LT(outcomes[0].azimuth, reset.observation.azimuth);  // moved towards -azimuth
   EXPECT_EQ(outcomes[1].status.code, Status::INVALID_ARGUMENT);
   EXPECT_FALSE(outcomes[1].status.message.empty());
+
+  // The outcome is stamped like the view it led to: its images and its camera transform.
+  const ros::Time stamp = outcomes[0].header.stamp;
+  EXPECT_TRUE(std::any_of(images.begin(), images.end(), [&](const sensor_msgs::Image& image) {
+    return image.header.stamp == stamp;
+  })) << "no depth image with the outcome's stamp";
+  std::string error;
+  ASSERT_TRUE(buffer.canTransform(names::kWorldFrame, names::kOpticalFrame, stamp,
+                                  ros::Duration(5.0), &error))
+      << error;
+  const geometry_msgs::TransformStamped transform =
+      buffer.lookupTransform(names::kWorldFrame, names::kOpticalFrame, stamp);
+  // The camera looks at the origin from the outcome's angles (radius 4 m).
+  const double radius = nodeOptions().environment.radius_m;
+  EXPECT_NEAR(transform.transform.translation.x,
+              radius * std::cos(outcomes[0].elevation) * std::cos(outcomes[0].azimuth), 1e-6);
+  EXPECT_NEAR(transform.transform.translation.y,
+              radius * std::cos(outcomes[0].elevation) * std::sin(outcomes[0].azimuth), 1e-6);
 }
 
 TEST(SimulatorNode, BadInputsAreRefusedAndLeaveTheStateUnchanged) {

@@ -19,8 +19,6 @@ extern char** environ;
 namespace occlusion_env {
 namespace {
 
-using testing_support::CsvEpisode;
-
 // Starts `rosrun occlusion_env occlusion_sim` (rosrun execs it, so the pid is the node's).
 pid_t startSimulator() {
   const char* argv[] = {"rosrun", "occlusion_env", "occlusion_sim", nullptr};
@@ -67,7 +65,7 @@ TEST(SimulatorRestart, AgentReportsTheLostEpisodeWaitsAndCarriesOn) {
   ros::WallDuration(1.5).sleep();  // the agent notices, reports and waits
   simulator = startSimulator();
 
-  const std::vector<CsvEpisode> rows = testing_support::waitForRows(csv, episodes, 90.0);
+  const std::vector<EpisodeRecord> rows = testing_support::waitForRows(csv, episodes, 90.0);
   stopSimulator(simulator, SIGINT);
   ASSERT_EQ(rows.size(), static_cast<std::size_t>(episodes)) << csv;
   const ros::WallTime report_deadline = ros::WallTime::now() + ros::WallDuration(5.0);
@@ -78,17 +76,17 @@ TEST(SimulatorRestart, AgentReportsTheLostEpisodeWaitsAndCarriesOn) {
 
   int cut_short = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const CsvEpisode& row = rows[i];
-    SCOPED_TRACE("episode " + std::to_string(i) + " seed " + std::to_string(row.seed));
-    if (!row.completed) {
+    const EpisodeRecord& row = rows[i];
+    SCOPED_TRACE("episode " + std::to_string(i) + " seed " + std::to_string(row.scene_seed));
+    if (!row.completed()) {
       ++cut_short;
       EXPECT_EQ(static_cast<int>(i), reports_at_kill) << "the episode in flight at the kill";
-      EXPECT_NE(row.message.find("lost the simulator"), std::string::npos) << row.message;
+      EXPECT_EQ(row.end, EpisodeEnd::kEnvironmentLost) << row.message;
       EXPECT_GT(row.steps, 0) << "killed in the middle of the episode, not at its reset";
       continue;
     }
     // Episodes before and after the restart are those of a simulator that never died.
-    testing_support::expectSameAsInProcess("random", row, start_azimuth);
+    testing_support::expectSameAsInProcess(row, start_azimuth);
   }
   EXPECT_EQ(cut_short, 1) << "exactly the episode in flight at the kill is cut short";
 }

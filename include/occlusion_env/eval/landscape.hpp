@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/agent.hpp"
-#include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/agents/episode.hpp"
+#include "occlusion_env/env/environment.hpp"
 
 namespace occlusion_env {
 namespace eval {
@@ -26,19 +26,14 @@ struct LandscapeGrid {
 int writeOcclusionLandscapeCsv(Environment& env, const LandscapeGrid& grid,
                                const std::string& path);
 
-/// One agent's episode as camera angles, for writeEpisodePathsCsv.
-struct AgentPath {
-  std::string agent;
-  EpisodeResult episode;
-};
-
-/// Writes `agent,success,steps,t,azimuth_rad,elevation_rad`, one row per pose of each path.
-void writeEpisodePathsCsv(const std::vector<AgentPath>& paths, const std::string& path);
+/// Writes `agent,success,steps,t,azimuth_rad,elevation_rad`, one row per pose of each episode's
+/// path.
+void writeEpisodePathsCsv(const std::vector<EpisodeRecord>& episodes, const std::string& path);
 
 /// The grid around `paths` (all poses inside, with `margin_rad` to spare on each side, at least
 /// +/- `min_half_width_rad` around the first path's start) at `spacing_rad`, elevations within
 /// +/- `elevation_limit_rad`.
-LandscapeGrid gridAround(const std::vector<AgentPath>& paths, double margin_rad,
+LandscapeGrid gridAround(const std::vector<EpisodeRecord>& paths, double margin_rad,
                          double min_half_width_rad, double spacing_rad, double elevation_limit_rad);
 
 }  // namespace eval

@@ -1,6 +1,6 @@
-// Episode records (one CSV row per agent and scene) and the Markdown summary built from them:
-// Table 4 of the paper (success rate, mean and standard deviation of steps per agent) and
-// Table 5 (paired BEST for every pair of agents).
+// The Markdown summary of episode records (agents/episode.hpp): Table 4 of the paper (success
+// rate, mean and standard deviation of steps per agent) and Table 5 (paired BEST for every pair
+// of agents), with the paper's figures beside ours.
 #pragma once
 
 #include <cstdint>
@@ -9,35 +9,16 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/agents/episode.hpp"
 #include "occlusion_env/eval/best.hpp"
 
 namespace occlusion_env {
 namespace eval {
 
-struct EpisodeRecord {
-  std::string agent;
-  std::string scene_set;  // the scene set's name, or "sweep_<preset>"
-  std::uint64_t scene_seed = 0;
-  double start_azimuth_rad = 0.0;
-  int max_steps = 0;     // the step limit of the run
-  int steps = 0;         // steps taken (max_steps when the episode failed)
-  bool success = false;  // occlusion reached the threshold within max_steps
-  double final_occlusion_px = 0.0;
-  double wall_time_s = 0.0;
-
-  /// Steps for the statistics: a failed episode counts as the step limit.
-  int countedSteps() const { return success ? steps : max_steps; }
-};
-
-/// The CSV header line (no newline) and one row; agent and scene set names must not hold commas,
-/// quotes or newlines (InvalidArgumentError).
-std::string episodeCsvHeader();
-void writeEpisodeCsvRow(std::ostream& out, const EpisodeRecord& record);
-/// Reads a file written with the two functions above. Throws InvalidArgumentError naming the line.
-std::vector<EpisodeRecord> readEpisodeCsv(const std::string& path);
-
 struct AgentSummary {
   std::string agent;
+  std::string paper_label;  // the paper's name for the method, "" if it has none
   int episodes = 0;
   int successes = 0;
   int max_steps = 0;        // the largest step limit among its episodes
@@ -46,8 +27,11 @@ struct AgentSummary {
   double mean_wall_time_s = 0.0;
 };
 
-/// One summary per agent, in the order agents first appear in `records`.
-std::vector<AgentSummary> summarizeAgents(const std::vector<EpisodeRecord>& records);
+/// One summary per agent, in the order agents first appear in `records`; paper labels from
+/// `registry` (agents it does not know have none). Throws InvalidArgumentError when an episode was
+/// cut short (it is no outcome of the agent: run it again).
+std::vector<AgentSummary> summarizeAgents(const std::vector<EpisodeRecord>& records,
+                                          const AgentRegistry& registry);
 
 struct PairComparison {
   std::string first;   // the baseline ("Baseline" in Table 5)
@@ -61,15 +45,14 @@ struct PairComparison {
 std::vector<PairComparison> compareAgents(const std::vector<EpisodeRecord>& records,
                                           const BestOptions& options = {});
 
-/// The paper's figures for an agent (Table 4) by our agent name, where the paper has one.
+/// The paper's Table 4 figures for a method, by the paper's label ("Env. Grad").
 struct PaperAgentFigures {
-  std::string label;  // the paper's column label, e.g. "Env. Grad"
   double mean_steps;
   double sd_steps;
 };
-std::optional<PaperAgentFigures> paperAgentFigures(const std::string& agent);
+std::optional<PaperAgentFigures> paperAgentFigures(const std::string& paper_label);
 
-/// The paper's Table 5 entry for (baseline, method), where it has one.
+/// The paper's Table 5 entry for (baseline, method), by the paper's labels, where it has one.
 struct PaperPairFigures {
   double hdi_low;
   double hdi_high;
@@ -80,7 +63,7 @@ std::optional<PaperPairFigures> paperPairFigures(const std::string& first,
                                                  const std::string& second);
 
 /// The Markdown document: a title, `preamble` (free text, e.g. how it was produced), Table 4 and
-/// Table 5 layouts with the paper's figures beside ours.
+/// Table 5 layouts with the paper's figures beside ours (matched through the summaries' labels).
 std::string renderSummaryMarkdown(const std::string& title, const std::string& preamble,
                                   const std::vector<AgentSummary>& agents,
                                   const std::vector<PairComparison>& comparisons);

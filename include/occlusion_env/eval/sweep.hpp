@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/eval/scene_set.hpp"
+#include "occlusion_env/env/scene_set.hpp"
 
 namespace occlusion_env {
 namespace eval {

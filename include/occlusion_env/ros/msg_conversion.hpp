@@ -13,8 +13,10 @@
 #include <string>
 
 #include "occlusion_env/CameraObservation.h"
+#include "occlusion_env/EpisodeReport.h"
 #include "occlusion_env/OcclusionFigures.h"
-#include "occlusion_env/core/environment.hpp"
+#include "occlusion_env/agents/episode.hpp"
+#include "occlusion_env/env/environment.hpp"
 
 namespace occlusion_env {
 
@@ -45,6 +47,13 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
 /// amodal_bits stays empty, it is not sent), `info` the pose, step index, occlusion figures and
 /// camera pose. Throws std::invalid_argument on an image of the wrong encoding or size.
 void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info);
+
+/// An episode record as a message (`episode_index`: its place in the node's list of seeds).
+EpisodeReport toEpisodeReport(const EpisodeRecord& record, int episode_index,
+                              const ros::Time& stamp);
+/// The record a message describes. Throws std::invalid_argument on an unknown `end` or a path
+/// whose azimuths and elevations differ in length.
+EpisodeRecord fromEpisodeReport(const EpisodeReport& report);
 
 /// One TRIANGLE_LIST marker per scene object (its render mesh, vertex colours), preceded by a
 /// DELETEALL so that markers of an earlier scene disappear.

@@ -15,14 +15,20 @@ constexpr char kStepService[] = "step";                        // occlusion_env/
 constexpr char kGradientService[] = "get_occlusion_gradient";  // occlusion_env/GetOcclusionGradient
 
 // Published topics (camera_info topics sit beside the images, as image_transport names them).
-constexpr char kRgbImageTopic[] = "rgb/image_raw";             // sensor_msgs/Image rgb8
-constexpr char kRgbCameraInfoTopic[] = "rgb/camera_info";      // sensor_msgs/CameraInfo
-constexpr char kDepthImageTopic[] = "depth/image_raw";         // sensor_msgs/Image 32FC1 [m]
-constexpr char kDepthCameraInfoTopic[] = "depth/camera_info";  // sensor_msgs/CameraInfo
-constexpr char kOcclusionMaskTopic[] = "occlusion_mask";       // sensor_msgs/Image mono8
-constexpr char kInstanceMaskTopic[] = "instance_mask";         // sensor_msgs/Image mono8
-constexpr char kSceneMarkersTopic[] = "scene_markers";         // visualization_msgs/MarkerArray
-constexpr char kStepOutcomeTopic[] = "step_outcome";           // occlusion_env/StepOutcome
+// Every image topic and its camera_info send the current view to a subscriber as it connects,
+// stamped with the view's own stamp (and /tf sends it the camera transform at that stamp), so a
+// late subscriber (rviz, depth_image_proc) sees the scene without waiting for the next step.
+constexpr char kRgbImageTopic[] = "rgb/image_raw";                  // sensor_msgs/Image rgb8
+constexpr char kRgbCameraInfoTopic[] = "rgb/camera_info";           // sensor_msgs/CameraInfo
+constexpr char kDepthImageTopic[] = "depth/image_raw";              // sensor_msgs/Image 32FC1 [m]
+constexpr char kDepthCameraInfoTopic[] = "depth/camera_info";       // sensor_msgs/CameraInfo
+constexpr char kOcclusionMaskTopic[] = "occlusion_mask/image_raw";  // sensor_msgs/Image mono8
+constexpr char kOcclusionMaskCameraInfoTopic[] = "occlusion_mask/camera_info";
+constexpr char kInstanceMaskTopic[] = "instance_mask/image_raw";  // sensor_msgs/Image mono8
+constexpr char kInstanceMaskCameraInfoTopic[] = "instance_mask/camera_info";
+constexpr char kPointsTopic[] = "points";  // sensor_msgs/PointCloud2 (sim.launch points:=true)
+constexpr char kSceneMarkersTopic[] = "scene_markers";  // visualization_msgs/MarkerArray
+constexpr char kStepOutcomeTopic[] = "step_outcome";    // occlusion_env/StepOutcome
 
 // Published by agent nodes in their private namespace.
 constexpr char kEpisodesTopic[] = "episodes";  // occlusion_env/EpisodeReport, one per episode

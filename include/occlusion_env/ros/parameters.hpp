@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/occlusion_gradient.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
 
 namespace occlusion_env {
 
@@ -54,8 +54,6 @@ struct SimulatorOptions {
   std::string optical_frame;     // camera optical frame (z forward); the images' frame_id
   double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
   std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
-  OcclusionGradientOptions gradient;         // of the get_occlusion_gradient service
-  std::string gradient_method = "analytic";  // its default: analytic | finite_difference
 };
 
 /// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their

@@ -7,7 +7,6 @@
 #include <image_transport/publisher.h>
 #include <ros/ros.h>
 #include <tf2_ros/static_transform_broadcaster.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include <memory>
 
@@ -16,8 +15,8 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Status.h"
 #include "occlusion_env/Step.h"
-#include "occlusion_env/core/environment.hpp"
-#include "occlusion_env/core/occlusion_gradient.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
 namespace occlusion_env {
@@ -43,13 +42,18 @@ class SimulatorNode {
   void onMove(const CameraMove::ConstPtr& move);
   void onTfTimer(const ros::TimerEvent& event);
 
-  /// Header of the current view's messages: now, in the optical frame.
-  std_msgs::Header viewHeader() const;
+  /// Stamps a new view (now, in the optical frame): every message of it carries this header.
+  const std_msgs::Header& stampNewView();
   /// Publishes images, camera infos and the camera transform of the current view; the scene
   /// markers too when `scene_changed`. Image messages are built only for topics with subscribers.
-  void publishView(const std_msgs::Header& header, bool scene_changed);
+  void publishView(bool scene_changed);
+  geometry_msgs::TransformStamped cameraTransform(const ros::Time& stamp) const;
   void broadcastCameraTransform(const ros::Time& stamp);
   void validateObjectParameters();
+  /// Publishers of one image topic and its camera_info that send the current view to each new
+  /// subscriber.
+  image_transport::CameraPublisher advertiseView(const std::string& topic,
+                                                 const cv::Mat Observation::*image);
 
   SimulatorOptions options_;
   ros::NodeHandle node_;
@@ -58,18 +62,19 @@ class SimulatorNode {
   std::unique_ptr<OcclusionGradient> analytic_gradient_;
   std::unique_ptr<OcclusionGradient> finite_difference_gradient_;
 
+  std_msgs::Header view_header_;  // of the current view; stamp zero before the first reset
   image_transport::ImageTransport image_transport_;
   image_transport::CameraPublisher rgb_publisher_;
   image_transport::CameraPublisher depth_publisher_;
-  image_transport::Publisher occlusion_mask_publisher_;
-  image_transport::Publisher instance_mask_publisher_;
+  image_transport::CameraPublisher occlusion_mask_publisher_;
+  image_transport::CameraPublisher instance_mask_publisher_;
   ros::Publisher scene_markers_publisher_;
   ros::Publisher step_outcome_publisher_;
   ros::Subscriber move_subscriber_;
   ros::ServiceServer reset_service_;
   ros::ServiceServer step_service_;
   ros::ServiceServer gradient_service_;
-  tf2_ros::TransformBroadcaster transform_broadcaster_;
+  ros::Publisher tf_publisher_;  // /tf, with the current view's transform for each new listener
   tf2_ros::StaticTransformBroadcaster static_transform_broadcaster_;
   ros::Timer tf_timer_;
 };

@@ -15,6 +15,11 @@ Status makeStatus(std::uint8_t code, const std::string& message = "");
 /// else -> INTERNAL_ERROR). Call from a catch block with std::current_exception().
 Status statusFromException(const std::exception_ptr& error);
 
+/// The inverse of statusFromException for a client: returns for OK, else throws the core's
+/// exception type of `status.code` (INVALID_ARGUMENT -> InvalidArgumentError, ...,
+/// INTERNAL_ERROR and unknown codes -> std::runtime_error) with `what` and the message.
+void throwForStatus(const Status& status, const std::string& what);
+
 /// Runs `action`; returns OK, or the status of whatever it threw.
 template <typename Action>
 Status runWithStatus(Action&& action) {

@@ -1,0 +1,70 @@
+// Agents by name: what each needs and how to make it. The evaluation, the command-line tools, the
+// agent node and the documentation take their list of agents from here; adding an agent means
+// adding one entry (an AgentEntry function beside the agent, listed in core_agents.cpp or in the
+// registry of the library that holds it).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/agents/agent.hpp"
+#include "occlusion_env/env/environment_interface.hpp"
+
+namespace occlusion_env {
+
+/// What an agent needs besides the observations every environment gives.
+struct AgentNeeds {
+  bool occlusion_gradient = false;  // EnvironmentInterface::occlusionGradient(): a simulator
+  bool simulation = false;          // the in-process simulation itself (reads the scene)
+  bool model_file = false;          // a trained model (AgentContext::model_path)
+};
+
+/// What a factory gets to make an agent.
+struct AgentContext {
+  EnvironmentInterface& environment;  // outlives the agent
+  std::string model_path;             // "" = the entry's default_model_path
+};
+
+using AgentFactory = std::function<std::unique_ptr<Agent>(const AgentContext&)>;
+
+struct AgentEntry {
+  std::string name;     // lower_case, no commas or spaces
+  std::string summary;  // one sentence, for --help, the README and reports
+  AgentNeeds needs;
+  /// false for references that read what a real camera cannot give (the oracle): they are
+  /// reported beside the competitors, not as one.
+  bool competes = true;
+  std::string paper_label;         // the paper's name for the method ("" if it has none)
+  std::string default_model_path;  // with needs.model_file: the shipped model
+  AgentFactory make;
+};
+
+class AgentRegistry {
+ public:
+  /// Throws InvalidArgumentError for a bad or duplicate name or an empty factory.
+  void add(AgentEntry entry);
+
+  /// nullptr when `name` is not registered.
+  const AgentEntry* find(const std::string& name) const;
+  /// Throws InvalidArgumentError naming the registered agents when `name` is not one.
+  const AgentEntry& at(const std::string& name) const;
+  /// In registration order.
+  const std::vector<AgentEntry>& entries() const { return entries_; }
+  std::vector<std::string> names() const;
+  /// The agents with competes = true, in registration order.
+  std::vector<std::string> competitors() const;
+
+  /// Why `name` cannot run on `environment` (a need it does not meet), or "" when it can.
+  std::string unmetNeed(const std::string& name, EnvironmentInterface& environment) const;
+
+  /// Makes `name` for `context`. Throws InvalidArgumentError for an unknown name and
+  /// InvalidStateError when the environment does not meet the agent's needs.
+  std::unique_ptr<Agent> make(const std::string& name, const AgentContext& context) const;
+
+ private:
+  std::vector<AgentEntry> entries_;
+};
+
+}  // namespace occlusion_env

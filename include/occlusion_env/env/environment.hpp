@@ -1,0 +1,125 @@
+// The in-process simulator: the EnvironmentInterface on the core's scenes, renderer, occlusion
+// count and reward (Gym-style: reset(seed) -> StepResult, step(Action) -> StepResult).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/env/environment_interface.hpp"
+#include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
+#include "occlusion_env/occlusion/reward.hpp"
+#include "occlusion_env/render/renderer.hpp"
+#include "occlusion_env/scene/object_library.hpp"
+#include "occlusion_env/scene/scene.hpp"
+
+namespace occlusion_env {
+
+/// Every option of the environment, with the defaults config/sim.yaml documents.
+struct EnvironmentOptions {
+  // Camera.
+  int width = 256;                                 // [px], 64..1024
+  int height = 256;                                // [px], 64..1024
+  double field_of_view_rad = 1.0471975512;         // horizontal, 60 deg
+  double radius_m = 4.0;                           // sphere radius
+  double elevation_limit_rad = 1.3962634016;       // +/- 80 deg
+  double start_azimuth_range_rad = 0.09817477042;  // start azimuth ~ U(-r, r), r = pi/32
+  double start_elevation_rad = 0.0;
+
+  // Objects.
+  CatalogOptions catalog;
+  std::size_t lod_triangle_budget = 5000;  // per object; 0 renders full meshes
+  SceneOptions scene;
+  std::string preset = "random";  // random | two_chairs | two_tables
+  int max_scene_attempts = 20;    // re-draws until the start view shows occlusion
+
+  // Actions and episodes.
+  bool normalize_action = true;  // true: every step moves exactly step_size_rad along the action
+  double step_size_rad =
+      0.05;            // unit step (the original code's); also the clip when not normalised
+  int max_steps = 50;  // truncation
+  RewardOptions reward;
+
+  // Rendering and the simulator's own occlusion gradient.
+  RendererOptions renderer;
+  RendererFactory renderer_factory;          // empty: OSMesa (render/osmesa_renderer.hpp)
+  OcclusionGradientOptions gradient;         // of occlusionGradient()
+  std::string gradient_method = "analytic";  // of occlusionGradient(): analytic | finite_difference
+
+  /// Throws InvalidArgumentError naming the first bad option.
+  void validate() const;
+};
+
+class Environment : public EnvironmentInterface, public RenderedView {
+ public:
+  /// Validates the options and creates the renderer on the calling thread (which must then make
+  /// every call). `library` may be shared between environments; nullptr builds one from options.
+  explicit Environment(const EnvironmentOptions& options,
+                       std::shared_ptr<ObjectLibrary> library = nullptr);
+  ~Environment() override;
+  Environment(const Environment&) = delete;
+  Environment& operator=(const Environment&) = delete;
+
+  /// Draws a new scene from `seed` and renders the start view. On any error the previous episode
+  /// (if any) is left as it was.
+  StepResult reset(std::uint64_t seed, const ResetOptions& overrides = {}) override;
+
+  /// Moves the camera. Throws InvalidStateError before the first reset and InvalidArgumentError
+  /// for a non-finite action; in both cases the state is unchanged. A zero action is a no-op move
+  /// that still counts as a step.
+  StepResult step(const Action& action) override;
+
+  /// The gradient of the current view by options().gradient_method, with options().gradient.
+  bool hasOcclusionGradient() const override { return true; }
+  GradientResult occlusionGradient() override;
+  Environment* simulation() override { return this; }
+  std::string describe() const override { return "in-process simulator"; }
+
+  /// Renders the current scene from `pose` without changing the episode (for finite
+  /// differences). The buffers are separate from the observation's.
+  const RenderBuffers& renderAt(const SphericalPose& pose) override;
+
+  bool hasEpisode() const { return has_episode_; }
+  const EnvironmentOptions& options() const { return options_; }
+  const CameraIntrinsics& intrinsics() const override;
+  const SphericalCamera& camera() const override { return camera_; }
+  const Scene& scene() const { return scene_; }
+  const StepInfo& info() const { return info_; }
+  const Observation& observation() const { return observation_; }
+  /// The buffers behind the current observation, including each object's own depth.
+  const RenderBuffers& renderBuffers() const override { return buffers_; }
+  const RewardFunction& reward() const { return reward_; }
+  ObjectLibrary& library() { return *library_; }
+
+  // RenderedView (the occlusion gradients' view of the current episode).
+  bool hasView() const override { return has_episode_; }
+  int numObjects() const override { return static_cast<int>(scene_.objects.size()); }
+  SphericalPose pose() const override { return info_.pose; }
+
+ private:
+  void placeScene(const Scene& scene);
+  void renderCurrent();
+  /// Counts the occlusion in buffers_ and rewrites observation_.occlusion_mask to match.
+  OcclusionStats countOcclusion(int num_objects);
+
+  EnvironmentOptions options_;
+  SphericalCamera camera_;
+  std::shared_ptr<ObjectLibrary> library_;
+  std::unique_ptr<Renderer> renderer_;
+  std::unique_ptr<OcclusionGradient> gradient_;  // made on the first occlusionGradient()
+  RewardFunction reward_;
+  Scene scene_;
+  RenderBuffers buffers_;
+  RenderBuffers probe_buffers_;
+  Observation observation_;
+  cv::Rect occlusion_mask_region_;  // where observation_.occlusion_mask may be non-zero [px]
+  StepInfo info_;
+  bool has_episode_ = false;
+  bool episode_over_ = false;
+};
+
+}  // namespace occlusion_env

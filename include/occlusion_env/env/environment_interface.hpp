@@ -1,0 +1,92 @@
+// The seam every agent and every camera plugs into: reset(seed) and step(action), with what an
+// agent may read. Implemented by the in-process simulator (Environment), by a client of the
+// simulator's ROS services (ros/environment_client.hpp) and, through those services, by the
+// camera bridge of a real camera.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
+
+namespace occlusion_env {
+
+class Environment;
+
+/// Per-reset overrides; unset fields use the environment's options.
+struct ResetOptions {
+  std::optional<std::string> preset;
+  std::vector<std::string> object_ids;
+  std::vector<std::string> categories;
+  std::optional<double> start_azimuth_rad;
+  std::optional<double> start_elevation_rad;
+};
+
+/// A camera move on the sphere [rad]. Only its direction counts when actions are normalised.
+struct Action {
+  double d_azimuth_rad = 0.0;
+  double d_elevation_rad = 0.0;
+};
+
+/// What the camera sees. The images are views of the environment's buffers, valid until the next
+/// reset() or step(): clone them to keep them. A remote environment may leave amodal_bits empty.
+struct Observation {
+  cv::Mat rgb;             // CV_8UC3 rgb8
+  cv::Mat depth;           // CV_32FC1 [m], NaN where nothing is hit
+  cv::Mat instance;        // CV_8UC1, 0 background, k + 1 = object k
+  cv::Mat amodal_bits;     // CV_8UC1, bit k = object k's full silhouette
+  cv::Mat occlusion_mask;  // CV_8UC1, 255 where two or more silhouettes overlap
+};
+
+struct StepInfo {
+  OcclusionStats occlusion;
+  SphericalPose pose;
+  Eigen::Isometry3d world_from_optical = Eigen::Isometry3d::Identity();
+  int step_index = 0;  // 0 after reset, t after the t-th step
+};
+
+struct StepResult {
+  const Observation* observation = nullptr;  // owned by the environment; see Observation
+  double reward = 0.0;
+  bool terminated = false;  // occlusion at or below the threshold
+  bool truncated = false;   // max_steps reached without success
+  StepInfo info;
+};
+
+/// Errors are the core's exception types (common/errors.hpp), whichever implementation answers:
+/// InvalidArgumentError for a request it cannot accept, InvalidStateError at the wrong time, ...,
+/// and EnvironmentUnavailableError when a remote environment cannot be reached. A refused request
+/// leaves the episode as it was.
+class EnvironmentInterface {
+ public:
+  virtual ~EnvironmentInterface() = default;
+
+  /// Starts an episode on the scene drawn from `seed` and returns its first view.
+  virtual StepResult reset(std::uint64_t seed, const ResetOptions& overrides = {}) = 0;
+
+  /// Moves the camera once and returns the new view.
+  virtual StepResult step(const Action& action) = 0;
+
+  /// Whether occlusionGradient() can answer: only a simulator can (a real camera cannot).
+  virtual bool hasOcclusionGradient() const { return false; }
+
+  /// dL_s/d(azimuth, elevation) of the current view (doc/GRADIENT.md); the episode is unchanged.
+  /// Throws InvalidStateError where hasOcclusionGradient() is false.
+  virtual GradientResult occlusionGradient();
+
+  /// The in-process simulation behind this interface, for reference agents that read the scene
+  /// (never for agents that compete); nullptr for a remote simulator or a real camera.
+  virtual Environment* simulation() { return nullptr; }
+
+  /// What answers, for messages ("in-process simulator", "ROS services /occlusion/...").
+  virtual std::string describe() const = 0;
+};
+
+}  // namespace occlusion_env

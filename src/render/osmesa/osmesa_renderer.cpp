@@ -1,0 +1,536 @@
+// Off-screen OpenGL 3.3 core renderer on OSMesa (llvmpipe).
+// One geometry pass per render, without depth test: every object draws into its own RGBA32F
+// target under GL_MIN blending, so each target ends up holding that object's nearest surface
+// alone, hidden or not. Per fragment the target receives
+//   R = optical-axis depth [m],  G, B, A = (depth bits with the low 8 mantissa bits cleared) | red,
+//   green, blue byte of the shaded colour.
+// Positive floats order like their bit patterns, so the minimum of G (B, A) is taken by the
+// nearest fragment (to 2^-15 relative depth) and carries its colour byte along. The CPU then picks,
+// per pixel, the object with the smallest depth: that gives the visible instance, the metric depth
+// and the colour; each target's R is the object's own depth (+inf outside: the amodal silhouette).
+// Compared with a depth-tested colour pass plus a silhouette pass, this halves the per-triangle
+// work, which is what limits llvmpipe on small images.
+// The projection maps image row 0 to window row 0, so glReadPixels yields top-down images.
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <GL/osmesa.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/render/osmesa_renderer.hpp"
+
+namespace occlusion_env {
+namespace {
+
+constexpr double kNearM = 0.05;
+constexpr double kFarM = 100.0;
+constexpr int kContextBufferSide = 8;  // [px] OSMesa's own colour buffer; we draw into FBOs
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "vertex arrays must be packed");
+
+// Shared by both passes so that both compute bit-identical clip positions and depths.
+constexpr const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_position;  // object frame [m]
+layout(location = 1) in vec3 a_color;     // linear RGB
+uniform mat4 u_clip_from_object;
+uniform mat4 u_optical_from_object;
+out vec3 v_position;  // optical frame [m]
+out vec3 v_color;
+void main() {
+  v_position = (u_optical_from_object * vec4(a_position, 1.0)).xyz;
+  v_color = a_color;
+  gl_Position = u_clip_from_object * vec4(a_position, 1.0);
+}
+)";
+
+// Flat-shaded vertex colours under a headlight slightly above the camera, sRGB-encoded, packed
+// with the depth as described at the top; +inf (a no-op under GL_MIN) into the other targets.
+// (kMaxObjects is defined in front of this text: see fragmentShaderSource().)
+constexpr const char* kFragmentShaderBody = R"(
+in vec3 v_position;
+in vec3 v_color;
+uniform int u_object;
+layout(location = 0) out vec4 o_target[kMaxObjects];
+const vec3 kToLight = vec3(0.0, -0.316228, -0.948683);  // optical frame: back and up
+void main() {
+  vec3 normal = normalize(cross(dFdx(v_position), dFdy(v_position)));
+  if (dot(normal, v_position) > 0.0) normal = -normal;  // face the camera: winding is arbitrary
+  float shade = 0.3 + 0.7 * max(dot(normal, kToLight), 0.0);
+  uvec3 color = uvec3(pow(clamp(v_color * shade, 0.0, 1.0), vec3(1.0 / 2.2)) * 255.0 + 0.5);
+  float depth = 1.0 / gl_FragCoord.w;  // optical z [m]
+  uint key = floatBitsToUint(depth) & 0xffffff00u;
+  vec4 target = vec4(depth, uintBitsToFloat(key | color.r), uintBitsToFloat(key | color.g),
+                     uintBitsToFloat(key | color.b));
+  vec4 inf = vec4(uintBitsToFloat(0x7f800000u));
+  for (int i = 0; i < kMaxObjects; ++i) o_target[i] = (i == u_object) ? target : inf;
+}
+)";
+
+std::string fragmentShaderSource() {
+  return "#version 330 core\nconst int kMaxObjects = " + std::to_string(kMaxSceneObjects) + ";" +
+         kFragmentShaderBody;
+}
+
+void throwOnGlError(const char* where) {
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR) {
+    throw RenderError(std::string("OpenGL error ") + std::to_string(error) + " in " + where);
+  }
+}
+
+GLuint compileShader(GLenum stage, const char* source, const char* what) {
+  const GLuint shader = glCreateShader(stage);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    std::array<char, 4096> log{};
+    glGetShaderInfoLog(shader, log.size(), nullptr, log.data());
+    throw RenderError(std::string("renderer: cannot compile the ") + what +
+                      " shader: " + log.data());
+  }
+  return shader;
+}
+
+GLuint linkProgram(const char* fragment_source, const char* what) {
+  const GLuint program = glCreateProgram();
+  const GLuint vertex = compileShader(GL_VERTEX_SHADER, kVertexShader, "vertex");
+  const GLuint fragment = compileShader(GL_FRAGMENT_SHADER, fragment_source, what);
+  glAttachShader(program, vertex);
+  glAttachShader(program, fragment);
+  glLinkProgram(program);
+  glDeleteShader(vertex);
+  glDeleteShader(fragment);
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::array<char, 4096> log{};
+    glGetProgramInfoLog(program, log.size(), nullptr, log.data());
+    throw RenderError(std::string("renderer: cannot link the ") + what + " program: " + log.data());
+  }
+  return program;
+}
+
+GLuint makeRenderbuffer(GLenum format, int width, int height) {
+  GLuint renderbuffer = 0;
+  glGenRenderbuffers(1, &renderbuffer);
+  glBindRenderbuffer(GL_RENDERBUFFER, renderbuffer);
+  glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+  return renderbuffer;
+}
+
+void throwUnlessComplete(const char* what) {
+  const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    throw RenderError(std::string("renderer: the ") + what + " framebuffer is incomplete (status " +
+                      std::to_string(status) + ")");
+  }
+}
+
+// Maps optical-frame points (x right, y down, z forward) [m] to clip space such that pixel
+// (column u, row v) in ROS's convention (centres at integers) covers window pixel (u, v): row 0 of
+// the read-back image is the image's top row. Depth maps [near, far] to NDC [-1, 1].
+Eigen::Matrix4d clipFromOptical(const CameraIntrinsics& k) {
+  const double w = k.width, h = k.height;
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = 2.0 * k.fx / w;
+  m(0, 2) = (2.0 * k.cx + 1.0) / w - 1.0;
+  m(1, 1) = 2.0 * k.fy / h;
+  m(1, 2) = (2.0 * k.cy + 1.0) / h - 1.0;
+  m(2, 2) = (kFarM + kNearM) / (kFarM - kNearM);
+  m(2, 3) = -2.0 * kFarM * kNearM / (kFarM - kNearM);
+  m(3, 2) = 1.0;
+  return m;
+}
+
+// (Re)allocates `mat` unless it already is a continuous rows x cols matrix of `type`; true when it
+// did, i.e. when the pixels hold nothing yet.
+bool ensureMat(cv::Mat& mat, int rows, int cols, int type) {
+  if (mat.rows == rows && mat.cols == cols && mat.type() == type && mat.isContinuous()) {
+    return false;
+  }
+  mat.release();
+  mat.create(rows, cols, type);
+  return true;
+}
+
+// Sets the pixels of `rect` in `mat` to `value` (one per channel, of `mat`'s depth).
+template <typename Pixel>
+void fillRect(cv::Mat& mat, const cv::Rect& rect, Pixel value) {
+  for (int row = rect.y; row < rect.y + rect.height; ++row) {
+    Pixel* first = mat.ptr<Pixel>(row) + rect.x;
+    std::fill(first, first + rect.width, value);
+  }
+}
+
+struct ContextDeleter {
+  void operator()(osmesa_context* context) const {
+    if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+    OSMesaDestroyContext(context);
+  }
+};
+
+class OsMesaRenderer final : public Renderer {
+ public:
+  explicit OsMesaRenderer(const CameraIntrinsics& intrinsics);
+
+  void setScene(const std::vector<PlacedMesh>& objects) override;
+  void render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) override;
+  const CameraIntrinsics& intrinsics() const override { return intrinsics_; }
+  std::string name() const override { return "osmesa"; }
+
+ private:
+  // GL objects of one uploaded mesh.
+  struct GpuMesh {
+    GLuint vertex_array = 0;
+    GLuint positions = 0;
+    GLuint colors = 0;
+    GLuint indices = 0;
+    GLsizei index_count = 0;
+    Eigen::Matrix4d world_from_object = Eigen::Matrix4d::Identity();
+    Eigen::AlignedBox3d bounds;  // object frame [m]
+  };
+
+  // Pixels an object can cover: x, y = first column, row; all of the image when unsure.
+  struct PixelRect {
+    int x = 0, y = 0, width = 0, height = 0;
+  };
+
+  void makeCurrent();
+  PixelRect footprint(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const;
+  void readBack(RenderBuffers& out);
+
+  CameraIntrinsics intrinsics_;
+  std::thread::id owner_thread_;
+  std::array<std::uint8_t, kContextBufferSide * kContextBufferSide * 4> context_buffer_{};
+  std::unique_ptr<osmesa_context, ContextDeleter> context_;
+  Eigen::Matrix4d clip_from_optical_;
+
+  GLuint program_ = 0;
+  GLint clip_location_ = -1;
+  GLint optical_location_ = -1;
+  GLint object_location_ = -1;
+  GLuint framebuffer_ = 0;  // kMaxSceneObjects RGBA32F targets, one per object
+
+  std::array<GpuMesh, kMaxSceneObjects> meshes_;
+  int num_objects_ = 0;
+  std::array<PixelRect, kMaxSceneObjects> footprints_;  // of the last render
+  std::vector<float> staging_;                          // one target read back, width * height * 4
+};
+
+OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
+    : intrinsics_(intrinsics),
+      owner_thread_(std::this_thread::get_id()),
+      clip_from_optical_(clipFromOptical(intrinsics)) {
+  const CameraIntrinsics& k = intrinsics_;
+  if (k.width < 1 || k.height < 1 || !(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) ||
+      !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy)) {
+    throw InvalidArgumentError("renderer: intrinsics need a positive size and focal lengths");
+  }
+  const int attributes[] = {OSMESA_FORMAT,
+                            OSMESA_RGBA,
+                            OSMESA_DEPTH_BITS,
+                            0,
+                            OSMESA_STENCIL_BITS,
+                            0,
+                            OSMESA_ACCUM_BITS,
+                            0,
+                            OSMESA_PROFILE,
+                            OSMESA_CORE_PROFILE,
+                            OSMESA_CONTEXT_MAJOR_VERSION,
+                            3,
+                            OSMESA_CONTEXT_MINOR_VERSION,
+                            3,
+                            0};
+  context_.reset(OSMesaCreateContextAttribs(attributes, nullptr));
+  if (!context_) throw RenderError("renderer: cannot create an OSMesa OpenGL 3.3 core context");
+  makeCurrent();
+
+  GLint max_draw_buffers = 0, max_attachments = 0, max_size = 0;
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &max_draw_buffers);
+  glGetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &max_attachments);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  if (max_draw_buffers < kMaxSceneObjects || max_attachments < kMaxSceneObjects) {
+    throw RenderError("renderer: the GL implementation offers fewer than 8 draw buffers");
+  }
+  if (k.width > max_size || k.height > max_size) {
+    throw InvalidArgumentError("renderer: image size exceeds GL_MAX_RENDERBUFFER_SIZE");
+  }
+
+  program_ = linkProgram(fragmentShaderSource().c_str(), "scene");
+  clip_location_ = glGetUniformLocation(program_, "u_clip_from_object");
+  optical_location_ = glGetUniformLocation(program_, "u_optical_from_object");
+  object_location_ = glGetUniformLocation(program_, "u_object");
+
+  // One target per object; setScene() enables as many draw buffers as there are objects.
+  glGenFramebuffers(1, &framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  for (int i = 0; i < kMaxSceneObjects; ++i) {
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_RENDERBUFFER,
+                              makeRenderbuffer(GL_RGBA32F, k.width, k.height));
+  }
+  const GLenum first_buffer = GL_COLOR_ATTACHMENT0;
+  glDrawBuffers(1, &first_buffer);
+  throwUnlessComplete("scene");
+
+  // One vertex array per scene slot; buffer storage is (re)specified in setScene().
+  for (GpuMesh& mesh : meshes_) {
+    glGenVertexArrays(1, &mesh.vertex_array);
+    glGenBuffers(1, &mesh.positions);
+    glGenBuffers(1, &mesh.colors);
+    glGenBuffers(1, &mesh.indices);
+    glBindVertexArray(mesh.vertex_array);
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.positions);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, mesh.colors);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(1);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices);
+  }
+  glBindVertexArray(0);
+
+  // Fixed state for the context's lifetime.
+  glDisable(GL_CULL_FACE);   // meshes are not consistently wound
+  glDisable(GL_DEPTH_TEST);  // every object's every surface reaches its target
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_MIN);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glViewport(0, 0, k.width, k.height);
+  glUseProgram(program_);
+  staging_.resize(static_cast<std::size_t>(k.width) * k.height * 4);
+  throwOnGlError("renderer setup");
+}
+
+void OsMesaRenderer::makeCurrent() {
+  if (std::this_thread::get_id() != owner_thread_) {
+    throw RenderError("renderer: called from a thread other than the one that created it");
+  }
+  if (OSMesaGetCurrentContext() == context_.get()) return;
+  if (!OSMesaMakeCurrent(context_.get(), context_buffer_.data(), GL_UNSIGNED_BYTE,
+                         kContextBufferSide, kContextBufferSide)) {
+    throw RenderError("renderer: OSMesaMakeCurrent failed");
+  }
+}
+
+void OsMesaRenderer::setScene(const std::vector<PlacedMesh>& objects) {
+  if (objects.size() > static_cast<std::size_t>(kMaxSceneObjects)) {
+    throw InvalidArgumentError("renderer: a scene holds at most 8 objects, got " +
+                               std::to_string(objects.size()));
+  }
+  // Validate everything before touching GL state, so a rejected scene leaves the old one intact.
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const Mesh* mesh = objects[i].mesh;
+    const std::string what = "renderer: scene object " + std::to_string(i);
+    if (mesh == nullptr || mesh->empty()) throw InvalidArgumentError(what + " has no mesh");
+    if (mesh->colors.size() != mesh->positions.size() || mesh->indices.size() % 3 != 0) {
+      throw InvalidArgumentError(what + " needs one colour per vertex and whole triangles");
+    }
+    for (const std::uint32_t index : mesh->indices) {
+      if (index >= mesh->positions.size())
+        throw InvalidArgumentError(what + ": index out of range");
+    }
+  }
+  makeCurrent();
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const Mesh& mesh = *objects[i].mesh;
+    GpuMesh& gpu = meshes_[i];
+    glBindVertexArray(gpu.vertex_array);
+    glBindBuffer(GL_ARRAY_BUFFER, gpu.positions);
+    glBufferData(GL_ARRAY_BUFFER, mesh.positions.size() * sizeof(Eigen::Vector3f),
+                 mesh.positions.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, gpu.colors);
+    glBufferData(GL_ARRAY_BUFFER, mesh.colors.size() * sizeof(Eigen::Vector3f), mesh.colors.data(),
+                 GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.size() * sizeof(std::uint32_t),
+                 mesh.indices.data(), GL_STATIC_DRAW);
+    gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
+    gpu.world_from_object = objects[i].world_from_object.matrix();
+    gpu.bounds = boundingBox(mesh).cast<double>();
+  }
+  glBindVertexArray(0);
+  num_objects_ = static_cast<int>(objects.size());
+  if (num_objects_ > 0) {
+    // Fragment output i goes to target i: one per object.
+    static constexpr GLenum kBuffers[kMaxSceneObjects] = {
+        GL_COLOR_ATTACHMENT0,     GL_COLOR_ATTACHMENT0 + 1, GL_COLOR_ATTACHMENT0 + 2,
+        GL_COLOR_ATTACHMENT0 + 3, GL_COLOR_ATTACHMENT0 + 4, GL_COLOR_ATTACHMENT0 + 5,
+        GL_COLOR_ATTACHMENT0 + 6, GL_COLOR_ATTACHMENT0 + 7};
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    glDrawBuffers(num_objects_, kBuffers);
+  }
+  throwOnGlError("setScene");
+}
+
+OsMesaRenderer::PixelRect OsMesaRenderer::footprint(
+    const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const {
+  const PixelRect whole{0, 0, intrinsics_.width, intrinsics_.height};
+  double u_min = kInf, u_max = -kInf, v_min = kInf, v_max = -kInf;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d point_object =
+        mesh.bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner));
+    const Eigen::Vector3d point = (optical_from_object * point_object.homogeneous()).head<3>();
+    if (point.z() <= kNearM) return whole;  // crosses the near plane: no cheap bound
+    const Eigen::Vector2d pixel = intrinsics_.project(point);
+    u_min = std::min(u_min, pixel.x());
+    u_max = std::max(u_max, pixel.x());
+    v_min = std::min(v_min, pixel.y());
+    v_max = std::max(v_max, pixel.y());
+  }
+  // The box's corners bound its projection; one pixel of margin covers rasterisation rounding.
+  const int x0 = std::max(0, static_cast<int>(std::floor(u_min)) - 1);
+  const int y0 = std::max(0, static_cast<int>(std::floor(v_min)) - 1);
+  const int x1 = std::min(intrinsics_.width, static_cast<int>(std::ceil(u_max)) + 2);
+  const int y1 = std::min(intrinsics_.height, static_cast<int>(std::ceil(v_max)) + 2);
+  if (x1 <= x0 || y1 <= y0) return {0, 0, 0, 0};  // off screen
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) {
+  makeCurrent();
+  const Eigen::Matrix4d optical_from_world = world_from_optical.inverse(Eigen::Isometry).matrix();
+  static constexpr float kInfs[4] = {kInf, kInf, kInf, kInf};
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  // Each object only touches the pixels of its bounding box's projection: clear, draw and read
+  // back just those (objects typically cover a fraction of the image).
+  glEnable(GL_SCISSOR_TEST);
+  for (int i = 0; i < num_objects_; ++i) {
+    const GpuMesh& mesh = meshes_[i];
+    const Eigen::Matrix4d optical_from_object = optical_from_world * mesh.world_from_object;
+    const PixelRect rect = footprint(mesh, optical_from_object);
+    footprints_[i] = rect;
+    if (rect.width == 0) continue;
+    // The other targets would only receive +inf, a no-op under GL_MIN: masking them spares
+    // llvmpipe their per-fragment blending. The clear below obeys the mask too.
+    for (int target = 0; target < num_objects_; ++target) {
+      const GLboolean on = target == i ? GL_TRUE : GL_FALSE;
+      glColorMaski(target, on, on, on, on);
+    }
+    glScissor(rect.x, rect.y, rect.width, rect.height);
+    glClearBufferfv(GL_COLOR, i, kInfs);
+    const Eigen::Matrix4f clip_from_object =
+        (clip_from_optical_ * optical_from_object).cast<float>();
+    const Eigen::Matrix4f optical = optical_from_object.cast<float>();
+    glUniformMatrix4fv(clip_location_, 1, GL_FALSE, clip_from_object.data());
+    glUniformMatrix4fv(optical_location_, 1, GL_FALSE, optical.data());
+    glUniform1i(object_location_, i);
+    glBindVertexArray(mesh.vertex_array);
+    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glDisable(GL_SCISSOR_TEST);
+  readBack(out);
+  throwOnGlError("render");
+}
+
+void OsMesaRenderer::readBack(RenderBuffers& out) {
+  const int width = intrinsics_.width, height = intrinsics_.height;
+  const cv::Rect image(0, 0, width, height);
+  // Outside out.footprint the images still hold the background from the last render into them,
+  // unless they are new: then nothing is known.
+  bool allocated = false;
+  allocated |= ensureMat(out.rgb, height, width, CV_8UC3);
+  allocated |= ensureMat(out.instance, height, width, CV_8UC1);
+  allocated |= ensureMat(out.depth, height, width, CV_32FC1);
+  allocated |= ensureMat(out.amodal_bits, height, width, CV_8UC1);
+  const cv::Rect stale = allocated ? image : out.footprint & image;
+  cv::Rect footprint;  // union of the objects' footprints [px]
+  for (int i = 0; i < num_objects_; ++i) {
+    const PixelRect& rect = footprints_[i];
+    footprint |= cv::Rect(rect.x, rect.y, rect.width, rect.height);
+  }
+  // Per-pixel work stays inside the footprints of this render and the last one: the rest of every
+  // image already is background.
+  const cv::Rect dirty = stale | footprint;
+  fillRect(out.depth, dirty, kNaN);  // REP 118: nothing hit
+  fillRect(out.rgb, dirty, cv::Vec3b(0, 0, 0));
+  fillRect(out.instance, dirty, std::uint8_t{0});
+  fillRect(out.amodal_bits, dirty, std::uint8_t{0});
+  if (out.object_depth.size() != static_cast<std::size_t>(num_objects_)) {
+    out.object_depth.resize(num_objects_);
+  }
+  for (cv::Mat& object_depth : out.object_depth) {
+    const bool is_new = ensureMat(object_depth, height, width, CV_32FC1);
+    fillRect(object_depth, is_new ? image : dirty, kInf);
+  }
+
+  // Merge the targets one by one: each gives its object's depth, silhouette bit and, where it is
+  // the nearest so far, the visible instance and colour.
+  float* nearest = reinterpret_cast<float*>(out.depth.data);  // NaN where nothing is hit yet
+  std::uint8_t* rgb = out.rgb.data;
+  std::uint8_t* instance = out.instance.data;
+  std::uint8_t* bits = out.amodal_bits.data;
+  for (int i = 0; i < num_objects_; ++i) {
+    float* object_depth = reinterpret_cast<float*>(out.object_depth[i].data);
+    const PixelRect& rect = footprints_[i];
+    if (rect.width == 0) continue;
+    glReadBuffer(GL_COLOR_ATTACHMENT0 + i);
+    glReadPixels(rect.x, rect.y, rect.width, rect.height, GL_RGBA, GL_FLOAT, staging_.data());
+    const std::uint8_t bit = static_cast<std::uint8_t>(1u << i);
+    for (int row = 0; row < rect.height; ++row) {
+      const float* target = staging_.data() + static_cast<std::size_t>(row) * rect.width * 4;
+      const std::size_t first = static_cast<std::size_t>(rect.y + row) * width + rect.x;
+      for (int col = 0; col < rect.width; ++col, target += 4) {
+        const float depth = target[0];
+        if (!(depth < kInf)) continue;
+        const std::size_t p = first + col;
+        object_depth[p] = depth;
+        bits[p] |= bit;
+        // True for the first hit (nearest is NaN) and for every nearer one after it.
+        if (!(nearest[p] <= depth)) {
+          nearest[p] = depth;
+          instance[p] = static_cast<std::uint8_t>(i + 1);
+          for (int c = 0; c < 3; ++c) {
+            std::uint32_t packed;
+            std::memcpy(&packed, &target[1 + c], sizeof packed);
+            rgb[3 * p + c] = static_cast<std::uint8_t>(packed & 0xffu);
+          }
+        }
+      }
+    }
+  }
+  out.footprint = footprint;
+}
+
+}  // namespace
+
+std::unique_ptr<Renderer> makeOsMesaRenderer(const CameraIntrinsics& intrinsics,
+                                             const RendererOptions& options) {
+  if (options.rasterizer_threads < 0 || options.rasterizer_threads > 64) {
+    throw InvalidArgumentError("renderer: rasterizer_threads must be in [0, 64], got " +
+                               std::to_string(options.rasterizer_threads));
+  }
+  // llvmpipe reads LP_NUM_THREADS once per process, when the first context is created: the first
+  // renderer fixes it, and a later one cannot change it.
+  static std::mutex mutex;
+  static int process_threads = -1;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (process_threads < 0) {
+      process_threads = options.rasterizer_threads;
+      setenv("LP_NUM_THREADS", std::to_string(process_threads).c_str(), /*overwrite=*/1);
+    } else if (process_threads != options.rasterizer_threads) {
+      throw InvalidArgumentError(
+          "renderer: llvmpipe already runs with " + std::to_string(process_threads) +
+          " rasteriser threads in this process (read once, at the first context); asked for " +
+          std::to_string(options.rasterizer_threads));
+    }
+  }
+  return std::make_unique<OsMesaRenderer>(intrinsics);
+}
+
+}  // namespace occlusion_env
