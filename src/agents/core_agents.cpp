@@ -1,11 +1,14 @@
 #include "occlusion_env/agents/core_agents.hpp"
 
+#include "occlusion_env/agents/oracle.hpp"
+
 namespace occlusion_env {
 
 AgentRegistry coreAgents() {
   AgentRegistry registry;
   registry.add(randomAgentEntry());
   registry.add(gradientAgentEntry());
+  registry.add(oracleAgentEntry());
   return registry;
 }
 

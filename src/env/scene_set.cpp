@@ -15,9 +15,10 @@ namespace occlusion_env {
 
 namespace {
 
-const std::set<std::string> kKnownKeys = {
-    "name",        "description",   "source",          "catalog_paths", "categories", "preset",
-    "num_objects", "start_azimuth", "start_elevation", "seeds",         "seed_range"};
+const std::set<std::string> kKnownKeys = {"name",          "description",   "source",
+                                          "catalog_paths", "categories",    "preset",
+                                          "num_objects",   "start_azimuth", "start_elevation",
+                                          "seeds",         "seed_range",    "model_split"};
 
 std::string listSeeds(const std::vector<std::uint64_t>& seeds) {
   std::ostringstream text;
@@ -65,6 +66,9 @@ SceneSet loadSceneSet(const std::string& path) {
     key = "preset";
     if (root["preset"]) set.preset = root["preset"].as<std::string>();
     parseScenePreset(set.preset);
+    key = "model_split";
+    if (root["model_split"]) set.model_split = root["model_split"].as<std::string>();
+    parseModelSplit(set.model_split);
     key = "num_objects";
     if (root["num_objects"]) set.num_objects = root["num_objects"].as<int>();
     if (set.num_objects < 1) throw InvalidArgumentError("must be >= 1");
@@ -111,6 +115,7 @@ void saveSceneSet(const SceneSet& set, const std::string& path) {
   out << YAML::Key << "catalog_paths" << YAML::Value << YAML::Flow << set.catalog_paths;
   out << YAML::Key << "categories" << YAML::Value << YAML::Flow << set.categories;
   out << YAML::Key << "preset" << YAML::Value << set.preset;
+  out << YAML::Key << "model_split" << YAML::Value << set.model_split;
   out << YAML::Key << "num_objects" << YAML::Value << set.num_objects;
   out << YAML::Key << "start_azimuth" << YAML::Value << set.start_azimuth_rad;
   out << YAML::Key << "start_elevation" << YAML::Value << set.start_elevation_rad;
@@ -162,6 +167,7 @@ EnvironmentOptions environmentOptionsFor(const SceneSet& set, EnvironmentOptions
   base.catalog.paths = set.catalog_paths;
   base.scene.categories = set.categories;
   base.scene.num_objects = set.num_objects;
+  base.scene.model_split = parseModelSplit(set.model_split);
   base.preset = set.preset;
   return base;
 }

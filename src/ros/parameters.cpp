@@ -182,7 +182,8 @@ const std::vector<std::string>& simulatorParameterNames() {
                                                   "gradient_blur_sigma",
                                                   "gradient_finite_difference_step",
                                                   "gradient_zero_tolerance",
-                                                  "rasterizer_threads"};
+                                                  "rasterizer_threads",
+                                                  "model_split"};
   return kNames;
 }
 
@@ -210,6 +211,8 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   reader.read("categories", environment.scene.categories);
   reader.read("object_ids", environment.scene.object_ids);
   reader.read("preset", environment.preset);
+  std::string model_split = toString(environment.scene.model_split);
+  reader.read("model_split", model_split);
   reader.read("max_scene_attempts", environment.max_scene_attempts);
   reader.read("normalize_action", environment.normalize_action);
   reader.read("step_size", environment.step_size_rad);
@@ -235,6 +238,11 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
     environment.reward.normalization = parseRewardNormalization(normalization);
   } catch (const InvalidArgumentError& error) {
     throw ParameterError(prefix + "reward_normalization: " + error.what());
+  }
+  try {
+    environment.scene.model_split = parseModelSplit(model_split);
+  } catch (const InvalidArgumentError& error) {
+    throw ParameterError(prefix + "model_split: " + error.what());
   }
   try {
     environment.validate();  // its messages name the option, which is the parameter's name

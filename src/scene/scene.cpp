@@ -14,9 +14,11 @@ std::string joined(const std::vector<std::string>& words) {
   return out.str();
 }
 
-/// The ids a random draw may pick from: every object of the given categories, or every object.
+/// The ids a random draw may pick from: every object of the given categories, or every object,
+/// of the split.
 std::vector<std::string> candidateIds(const ObjectCatalog& catalog,
-                                      const std::vector<std::string>& categories) {
+                                      const std::vector<std::string>& categories,
+                                      ModelSplit split) {
   std::vector<std::string> ids;
   if (categories.empty()) {
     for (const ObjectInfo& info : catalog.objects()) ids.push_back(info.id);
@@ -33,7 +35,24 @@ std::vector<std::string> candidateIds(const ObjectCatalog& catalog,
   if (ids.empty()) {
     throw InvalidArgumentError("the " + catalog.sourceName() + " catalogue holds no objects");
   }
+  ids = idsInSplit(catalog, ids, split);
+  if (ids.empty()) {
+    throw InvalidArgumentError("no object of the " + toString(split) + " split among " +
+                               (categories.empty() ? "the catalogue's" : joined(categories)));
+  }
   return ids;
+}
+
+// Explicit ids must lie in the split (a training run must not see a test model).
+void requireInSplit(const ObjectCatalog& catalog, const std::vector<std::string>& ids,
+                    ModelSplit split) {
+  if (split == ModelSplit::kAll) return;
+  for (const std::string& id : ids) {
+    if (catalog.find(id) && modelSplitOf(catalog, id) != split) {
+      throw InvalidArgumentError("object " + quoted(id) + " is not in the " + toString(split) +
+                                 " split of the " + catalog.sourceName() + " catalogue");
+    }
+  }
 }
 
 std::shared_ptr<const ObjectModel> modelOf(ObjectLibrary& library, const std::string& id) {
@@ -77,9 +96,10 @@ Scene generateScene(ObjectLibrary& library, const SceneOptions& options, ScenePr
     std::string id;
     if (!options.object_ids.empty()) {
       id = options.object_ids.front();
+      requireInSplit(catalog, {id}, options.model_split);
     } else {
-      const std::vector<std::string> ids =
-          candidateIds(catalog, {preset == ScenePreset::kTwoChairs ? "chair" : "table"});
+      const std::vector<std::string> ids = candidateIds(
+          catalog, {preset == ScenePreset::kTwoChairs ? "chair" : "table"}, options.model_split);
       id = ids[random.below(ids.size())];
     }
     const auto model = modelOf(library, id);
@@ -94,13 +114,16 @@ Scene generateScene(ObjectLibrary& library, const SceneOptions& options, ScenePr
       throw InvalidArgumentError("num_objects must lie in [1, " + std::to_string(kMaxSceneObjects) +
                                  "], got " + std::to_string(options.num_objects));
     }
-    const std::vector<std::string> candidates = candidateIds(catalog, options.categories);
+    const std::vector<std::string> candidates =
+        candidateIds(catalog, options.categories, options.model_split);
     for (int k = 0; k < options.num_objects; ++k) {
       ids.push_back(candidates[random.below(candidates.size())]);
     }
   } else if (ids.size() > static_cast<std::size_t>(kMaxSceneObjects)) {
     throw InvalidArgumentError("a scene holds at most " + std::to_string(kMaxSceneObjects) +
                                " objects, got " + std::to_string(ids.size()) + " ids");
+  } else {
+    requireInSplit(catalog, ids, options.model_split);
   }
 
   // One sideways offset per scene; odd objects go to +x, even ones to -x (paper, Section 3).

@@ -48,10 +48,11 @@ modes (one):
   --summarize CSV      summary and plots from an episode CSV of an earlier run
   --landscape FILE     occlusion L over the camera angles of the set's first scene, with each
                        agent's path on it (CSV and plot)
-  --all                both held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
+  --all                the held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
                        with RESULTS.md in --out (and the --report document)
 options:
-  --agents A,B,...     agents by name (default: every competing agent of the registry)
+  --agents A,B,...     agents by name (default: every agent of the registry, the oracle included;
+                       the sweeps: the competing agents)
   --max-steps N        step limit per episode (default 50; 2000 for --sweep)
   --limit N            only the first N scenes of the set
   --sweep-source SRC   object source of the sweep's preset scene (default embedded)
@@ -155,7 +156,7 @@ std::string summarize(const CommandLine& cl, const std::vector<EpisodeRecord>& r
                       const std::string& name, const std::string& episodes_csv) {
   std::cerr << "occlusion_eval: paired BEST (JAGS) for every pair of agents...\n";
   const auto agents = summarizeAgents(records, registry());
-  const auto comparisons = compareAgents(records, cl.best);
+  const auto comparisons = compareAgents(records, registry(), cl.best);
   const std::string prefix = (fs::path(cl.out) / name).string() + "_";
   writeComparisonCsv(comparisons, prefix + "best_pairs.csv");
   writePosteriorSamplesCsv(comparisons, prefix + "best_mu_samples.csv");
@@ -199,7 +200,7 @@ std::string runSceneSet(const CommandLine& cl, const std::string& scenes_path) {
   if (cl.limit > 0 && static_cast<std::size_t>(cl.limit) < plan.scenes.seeds.size()) {
     plan.scenes.seeds.resize(cl.limit);
   }
-  plan.agents = cl.agents;
+  plan.agents = cl.agents.empty() ? registry().names() : cl.agents;  // the oracle too
   plan.max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlan(cl, plan, csv_path);
@@ -210,7 +211,7 @@ std::string runSweep(const CommandLine& cl, const std::string& preset) {
   EvaluationPlan plan;
   plan.scenes = sweepSceneSet(preset, cl.sweep_source);
   plan.start_azimuths_rad = sweepStartAzimuths();
-  plan.agents = cl.agents;
+  plan.agents = cl.agents.empty() ? registry().competitors() : cl.agents;
   plan.max_steps = cl.max_steps > 0 ? cl.max_steps : kSweepMaxSteps;
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + ".csv")).string();
   const auto records = runPlan(cl, plan, csv_path);
@@ -256,7 +257,7 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
   std::vector<EpisodeRecord> paths;
   EpisodeRunOptions run_options;
   run_options.max_steps = max_steps;
-  for (const std::string& name : cl.agents.empty() ? registry().competitors() : cl.agents) {
+  for (const std::string& name : cl.agents.empty() ? registry().names() : cl.agents) {
     const std::unique_ptr<Agent> agent = registry().make(name, {env, ""});
     EpisodeRequest request;
     request.agent = name;
@@ -315,8 +316,10 @@ std::string reportIntroduction(const CommandLine& cl) {
   text << " Each move turns the camera by 0.05 rad on its sphere (r = 4 m, 60 deg field of view, "
           "256 x 256 px). Agents are seeded with the scene seed: a run is reproducible.\n\n"
        << "**Scenes.** The held-out scene sets `config/scenes/test_embedded.yaml` (our embedded "
-          "meshes) and `config/scenes/test_sweethome3d.yaml` (Debian's Sweet Home 3D chairs and "
-          "tables): 50 scenes of 3 objects each, start azimuth 0, elevation 0, at most "
+          "meshes), `config/scenes/test_sweethome3d.yaml` (Debian's Sweet Home 3D chairs and "
+          "tables, any model) and `config/scenes/test_sweethome3d_unseen.yaml` (the same kind of "
+          "scenes drawn only from the catalogue's test split: models no learned agent is trained "
+          "on): 50 scenes of 3 objects each, start azimuth 0, elevation 0, at most "
        << (cl.max_steps > 0 ? cl.max_steps : 50)
        << " steps, as in the paper's Table 4. Their seeds lie at or above 1,000,000; training "
           "must use seeds below (the tool refuses test sets that reach into that range). Every "
@@ -351,7 +354,7 @@ std::string withLinkPrefix(const std::string& markdown, const std::string& prefi
 
 void runAll(const CommandLine& cl) {
   std::string sections;
-  for (const char* set : {"test_embedded", "test_sweethome3d"}) {
+  for (const char* set : {"test_embedded", "test_sweethome3d", "test_sweethome3d_unseen"}) {
     const std::string summary = runSceneSet(cl, cl.source_dir + "/config/scenes/" + set + ".yaml");
     // The scene set's own heading, one level down.
     sections += "## Held-out scene set `" + std::string(set) + "`\n" +

@@ -49,6 +49,7 @@ TEST(ShippedConfigTest, SimYamlStatesTheEnvironmentDefaults) {
   EXPECT_DOUBLE_EQ(yaml["gradient_zero_tolerance"].as<double>(), gradient.zero_gradient_tolerance);
   EXPECT_EQ(yaml["gradient_method"].as<std::string>(), defaults.gradient_method);
   EXPECT_EQ(yaml["rasterizer_threads"].as<int>(), defaults.renderer.rasterizer_threads);
+  EXPECT_EQ(yaml["model_split"].as<std::string>(), toString(defaults.scene.model_split));
 }
 
 }  // namespace

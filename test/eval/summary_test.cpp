@@ -68,7 +68,7 @@ TEST(Summary, MarkdownHasBothTablesWithPaperFigures) {
   BestOptions options;
   options.samples_per_chain = 2000;
   options.burn_in_iterations = 500;
-  const auto comparisons = compareAgents(records, options);
+  const auto comparisons = compareAgents(records, coreAgents(), options);
   ASSERT_EQ(comparisons.size(), 1u);
   EXPECT_EQ(comparisons[0].first, "random");
   EXPECT_EQ(comparisons[0].second, "gradient");
@@ -90,7 +90,7 @@ TEST(Summary, IdenticalAgentsGiveNoVariationRow) {
       records.push_back(record(agent, 1'000'000u + scene, 50, false));
     }
   }
-  const auto comparisons = compareAgents(records);
+  const auto comparisons = compareAgents(records, coreAgents());
   ASSERT_EQ(comparisons.size(), 1u);
   EXPECT_TRUE(comparisons[0].best.no_variation);
   const std::string md =

@@ -34,6 +34,7 @@ struct SceneSet {
   std::vector<std::string> catalog_paths;  // as CatalogOptions::paths (empty: the default)
   std::vector<std::string> categories;     // empty: any category
   std::string preset = "random";           // random | two_chairs | two_tables
+  std::string model_split = "all";         // all | train | test (scene/model_split.hpp)
   int num_objects = 3;
   double start_azimuth_rad = 0.0;  // the paper's comparison starts every episode at 0
   double start_elevation_rad = 0.0;

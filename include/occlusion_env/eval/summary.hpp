@@ -25,11 +25,17 @@ struct AgentSummary {
   double mean_steps = 0.0;  // failed episodes counted as the step limit
   double sd_steps = 0.0;    // sample standard deviation (n - 1)
   double mean_wall_time_s = 0.0;
+  bool competes = true;  // false for a reference (the oracle): no BEST, no "above" figure
+  /// Mean of (counted steps - the reference's counted steps) over the scenes both ran: how far
+  /// above the floor; NaN when no reference agent is among the records.
+  double mean_steps_above_reference = 0.0;
 };
 
-/// One summary per agent, in the order agents first appear in `records`; paper labels from
-/// `registry` (agents it does not know have none). Throws InvalidArgumentError when an episode was
-/// cut short (it is no outcome of the agent: run it again).
+/// One summary per agent, in the order agents first appear in `records`; paper labels and
+/// whether an agent competes from `registry` (agents it does not know compete and have no label).
+/// The reference is the first non-competing agent in `records` (the oracle). Throws
+/// InvalidArgumentError when an episode was cut short (it is no outcome of the agent: run it
+/// again).
 std::vector<AgentSummary> summarizeAgents(const std::vector<EpisodeRecord>& records,
                                           const AgentRegistry& registry);
 
@@ -39,10 +45,11 @@ struct PairComparison {
   BestResult best;     // on counted steps, first - second: mu > 0 means second is faster
 };
 
-/// Paired BEST for every pair (i < j) of agents in order of appearance, paired on
-/// (scene seed, start azimuth); scenes one agent lacks are left out. Throws InvalidArgumentError
-/// when a pair shares fewer than 2 scenes.
+/// Paired BEST for every pair (i < j) of competing agents (registry) in order of appearance,
+/// paired on (scene seed, start azimuth); scenes one agent lacks are left out. Throws
+/// InvalidArgumentError when a pair shares fewer than 2 scenes.
 std::vector<PairComparison> compareAgents(const std::vector<EpisodeRecord>& records,
+                                          const AgentRegistry& registry,
                                           const BestOptions& options = {});
 
 /// The paper's Table 4 figures for a method, by the paper's label ("Env. Grad").

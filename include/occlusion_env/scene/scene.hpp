@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "occlusion_env/common/random.hpp"
+#include "occlusion_env/scene/model_split.hpp"
 #include "occlusion_env/scene/object_library.hpp"
 
 namespace occlusion_env {
@@ -35,6 +36,8 @@ struct SceneOptions {
   double lateral_sigma_m = 1.0;  // sideways offset x ~ N(0, sigma); odd k get +x, even k get -x
   std::vector<std::string> categories;  // draw only from these (empty: any)
   std::vector<std::string> object_ids;  // use exactly these, in order (overrides categories)
+  /// Draw only models of this split (scene/model_split.hpp); explicit object_ids must lie in it.
+  ModelSplit model_split = ModelSplit::kAll;
 };
 
 /// Draws a scene from `random`. Object 0 at the origin; object k (k >= 1) at

@@ -1,0 +1,93 @@
+// The oracle: the fewest fixed-length steps after which the camera can stand at an unoccluded
+// view, and the first step of such a path. It reads the scene (it renders other poses), so it is
+// a reference for every table and a label for training, never a competitor.
+//
+// A step moves the camera by exactly h = step_size in any direction of the (azimuth, elevation)
+// plane (the environment's normalised actions; elevation clamped at its limit). So one step
+// reaches exactly the circle of radius h, and k >= 2 steps reach every pose within k h: a target
+// at distance d needs max(2, ceil(d / h)) steps (the last two steps bend to land on it exactly).
+// The oracle searches the unoccluded poses on a lattice of spacing s (default h / 2) anchored at
+// the first pose it is asked about, nearest first, and the circle of radius h at 64 directions;
+// the lattice's occlusion figures are cached for the scene. doc/ORACLE.md says how the spacing
+// was checked against a finer lattice.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/env/environment.hpp"
+
+namespace occlusion_env {
+
+struct OracleOptions {
+  double lattice_spacing_steps = 0.5;  // s / h, in (0, 1]
+  int circle_directions = 64;          // poses tried on the one-step circle
+  int max_steps = 50;                  // search radius: no answer beyond max_steps * h
+};
+
+struct OracleAnswer {
+  /// Fewest steps to an unoccluded view; 0 when the pose is unoccluded; -1 when there is none
+  /// within max_steps (a failure at the step limit).
+  int steps = -1;
+  /// The moves of one such path [rad]: steps entries of length h (empty for 0 and -1).
+  std::vector<Action> path;
+  SphericalPose target;    // where the path ends (unoccluded)
+  int poses_rendered = 0;  // renders this query cost (cache misses)
+  /// The first move's direction: atan2(d_elevation, d_azimuth) [rad] (doc/CONVENTIONS.md); NaN
+  /// when there is no move.
+  double firstDirectionRad() const;
+};
+
+class OcclusionOracle {
+ public:
+  /// Throws InvalidArgumentError for options out of range.
+  explicit OcclusionOracle(Environment& environment, const OracleOptions& options = {});
+
+  /// Forgets the cached occlusion: call when the environment shows a new scene. The lattice is
+  /// then anchored at the next pose queried, or at `anchor`: answers depend only on the anchor
+  /// and the pose (the cache only saves renders), so a fixed anchor makes them reproducible.
+  void clear();
+  void clear(const SphericalPose& anchor);
+
+  /// The answer for `pose` in the environment's current scene (the episode is unchanged).
+  OracleAnswer query(const SphericalPose& pose);
+
+ private:
+  using LatticeIndex = std::pair<int, int>;
+  std::int64_t occlusionAt(const SphericalPose& pose);
+  std::int64_t occlusionAtLattice(const LatticeIndex& index);
+  SphericalPose latticePose(const LatticeIndex& index) const;
+
+  Environment& environment_;
+  OracleOptions options_;
+  double step_rad_;
+  double spacing_rad_;
+  bool anchored_ = false;
+  SphericalPose anchor_;
+  std::map<LatticeIndex, std::int64_t> cache_;
+  int renders_ = 0;
+};
+
+/// Follows the oracle's path, planned at its first act() of each episode (re-planned only if
+/// the path runs out before the episode ends). Needs the in-process simulation.
+class OracleAgent : public Agent {
+ public:
+  OracleAgent(Environment& environment, const OracleOptions& options = {});
+  void reset(std::uint64_t seed) override;
+  Action act(const Observation& observation, const StepInfo& info) override;
+  /// The plan of the current episode (its step count is the bound).
+  const OracleAnswer& plan() const { return plan_; }
+
+ private:
+  OcclusionOracle oracle_;
+  OracleAnswer plan_;
+  std::size_t next_ = 0;
+  bool planned_ = false;
+};
+
+AgentEntry oracleAgentEntry();
+
+}  // namespace occlusion_env

@@ -1,0 +1,70 @@
+// Algorithm 1 of the paper: training frames from random scenes, each scene from a training seed
+// at its start view, each next frame after a random camera move, written in the BOP format
+// (dataset/bop_dataset.hpp) with occlusion, gradient and oracle labels; and the audit that
+// re-renders stored frames and compares.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "occlusion_env/agents/oracle.hpp"
+
+namespace occlusion_env {
+namespace dataset {
+
+struct DatasetOptions {
+  int scenes = 1000;                // N_s
+  int frames = 20;                  // N_i per scene (the paper's 20)
+  std::uint64_t first_seed = 0;     // scene seeds first_seed .. first_seed + scenes - 1 (training)
+  int size = 128;                   // image width and height [px]
+  std::string source = "embedded";  // object catalogue
+  std::vector<std::string> catalog_paths;  // as the simulator's ~catalog_paths
+  std::vector<std::string> categories;     // empty: any
+  int num_objects = 3;
+  /// Between frames the camera takes 1..max_move_steps steps (uniform) of the environment's step
+  /// size in one direction drawn uniformly from [0, 2 pi): a random walk of varying stride.
+  int max_move_steps = 4;
+  bool oracle_labels = true;
+  double validation_fraction = 0.2;  // whole scenes: every 1/fraction-th scene
+  int threads = 2;                   // workers, one environment (GL context) each
+
+  /// The options that define the data (not how it is made): what a resumed run must match.
+  nlohmann::json definingJson() const;
+  /// Throws InvalidArgumentError naming the first bad option; test seeds (>= 1,000,000) and
+  /// anything but the train model split are refused here.
+  void validate() const;
+};
+
+struct GenerationReport {
+  int scenes_written = 0;
+  int scenes_skipped = 0;  // complete already (resume)
+  int frames_written = 0;
+  double seconds = 0.0;
+};
+
+/// Called after each scene with (scenes done in this run, scenes to do in this run).
+using ProgressCallback = std::function<void(int done, int total)>;
+
+/// Writes (or completes) the dataset in `dir`. A folder holding a dataset made with other
+/// defining options is refused (InvalidArgumentError naming the differing options); complete
+/// scenes are kept. Throws std::runtime_error naming the file when a write fails (a full disk).
+GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
+                                 const ProgressCallback& progress = {});
+
+struct AuditReport {
+  int frames_checked = 0;
+  int failures = 0;
+  std::vector<std::string> problems;  // one line per mismatch (at most 50 kept)
+};
+
+/// Re-renders `samples` frames drawn (with `seed`) from the dataset in `dir` from their recorded
+/// scene seed and pose and compares images (exactly; depth to its quantisation), masks, occlusion,
+/// gradient and oracle labels.
+AuditReport auditDataset(const std::string& dir, int samples, std::uint64_t seed = 1);
+
+}  // namespace dataset
+}  // namespace occlusion_env

@@ -1,0 +1,246 @@
+#include "occlusion_env/agents/oracle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
+
+namespace occlusion_env {
+namespace {
+
+double wrapAngle(double angle) {
+  return std::remainder(angle, 2.0 * M_PI);  // in [-pi, pi]
+}
+
+Action move(double direction_rad, double length) {
+  return {length * std::cos(direction_rad), length * std::sin(direction_rad)};
+}
+
+// Steps needed to land exactly on a target at distance d (> 0) with moves of length h.
+int stepsFor(double distance, double h) {
+  return std::max(2, static_cast<int>(std::ceil(distance / h - 1e-9)));
+}
+
+// The moves from the origin to `offset` (length d > 0) in `steps` moves of length h: straight
+// towards the target, the last two bending so that they land on it. Among the two bends, the one
+// whose corner lies within +/- `elevation_room` (the corner's allowed elevation offset range).
+std::vector<Action> pathTo(const Eigen::Vector2d& offset, int steps, double h, double elevation_low,
+                           double elevation_high) {
+  const double distance = offset.norm();
+  const double heading = std::atan2(offset.y(), offset.x());
+  std::vector<Action> path;
+  if (steps == 1) {
+    path.push_back(move(heading, h));
+    return path;
+  }
+  for (int i = 0; i < steps - 2; ++i) path.push_back(move(heading, h));
+  const double remaining = distance - (steps - 2) * h;  // in (0, 2h]
+  const double bend = std::acos(std::clamp(remaining / (2.0 * h), -1.0, 1.0));
+  const Eigen::Vector2d before = offset.normalized() * ((steps - 2) * h);
+  for (const double sign : {1.0, -1.0}) {
+    const double first = heading + sign * bend;
+    const double corner_elevation = before.y() + h * std::sin(first);
+    if (sign < 0.0 || (corner_elevation >= elevation_low && corner_elevation <= elevation_high)) {
+      path.push_back(move(first, h));
+      path.push_back(move(heading - sign * bend, h));
+      break;
+    }
+  }
+  return path;
+}
+
+}  // namespace
+
+double OracleAnswer::firstDirectionRad() const {
+  if (path.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return std::atan2(path.front().d_elevation_rad, path.front().d_azimuth_rad);
+}
+
+OcclusionOracle::OcclusionOracle(Environment& environment, const OracleOptions& options)
+    : environment_(environment),
+      options_(options),
+      step_rad_(environment.options().step_size_rad),
+      spacing_rad_(options.lattice_spacing_steps * step_rad_) {
+  if (!(options.lattice_spacing_steps > 0.0 && options.lattice_spacing_steps <= 1.0)) {
+    throw InvalidArgumentError("oracle: lattice_spacing_steps must lie in (0, 1]");
+  }
+  if (options.circle_directions < 4 || options.circle_directions > 4096) {
+    throw InvalidArgumentError("oracle: circle_directions must lie in [4, 4096]");
+  }
+  if (options.max_steps < 1) throw InvalidArgumentError("oracle: max_steps must be >= 1");
+  if (!environment.options().normalize_action) {
+    throw InvalidArgumentError("oracle: the environment must normalise actions (fixed steps)");
+  }
+}
+
+void OcclusionOracle::clear() {
+  cache_.clear();
+  anchored_ = false;
+}
+
+void OcclusionOracle::clear(const SphericalPose& anchor) {
+  cache_.clear();
+  anchor_ = anchor;
+  anchored_ = true;
+}
+
+std::int64_t OcclusionOracle::occlusionAt(const SphericalPose& pose) {
+  ++renders_;
+  const RenderBuffers& buffers = environment_.renderAt(pose);
+  return computeOcclusion(buffers.amodal_bits, environment_.numObjects(), buffers.footprint)
+      .total_pixels;
+}
+
+SphericalPose OcclusionOracle::latticePose(const LatticeIndex& index) const {
+  return {anchor_.azimuth_rad + index.first * spacing_rad_,
+          anchor_.elevation_rad + index.second * spacing_rad_};
+}
+
+std::int64_t OcclusionOracle::occlusionAtLattice(const LatticeIndex& index) {
+  const auto found = cache_.find(index);
+  if (found != cache_.end()) return found->second;
+  const std::int64_t pixels = occlusionAt(latticePose(index));
+  cache_.emplace(index, pixels);
+  return pixels;
+}
+
+OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
+  if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
+  renders_ = 0;
+  OracleAnswer answer;
+  const double threshold =
+      static_cast<double>(environment_.options().reward.success_threshold_pixels);
+  const auto solved = [threshold](std::int64_t pixels) { return pixels <= threshold; };
+  if (solved(occlusionAt(pose))) {
+    answer.steps = 0;
+    answer.target = pose;
+    answer.poses_rendered = renders_;
+    return answer;
+  }
+  if (!anchored_) {
+    anchor_ = pose;
+    anchored_ = true;
+  }
+  const double limit = environment_.camera().elevationLimit();
+  const double elevation_low = -limit - pose.elevation_rad;  // allowed offsets of the path
+  const double elevation_high = limit - pose.elevation_rad;
+
+  // The nearest unoccluded lattice pose: lattice points in order of their distance from `pose`.
+  // Points in Chebyshev ring r around the nearest lattice point lie at least (r - 0.5) s away, so
+  // once ring r is queued every point nearer than (r + 0.5) s is known.
+  const double offset_azimuth = wrapAngle(pose.azimuth_rad - anchor_.azimuth_rad) / spacing_rad_;
+  const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
+  const int center_a = static_cast<int>(std::lround(offset_azimuth));
+  const int center_e = static_cast<int>(std::lround(offset_elevation));
+  const double max_distance = options_.max_steps * step_rad_;
+  const int max_ring = static_cast<int>(std::ceil(max_distance / spacing_rad_)) + 1;
+  using Candidate = std::pair<double, LatticeIndex>;  // distance [rad], index
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+  const auto offsetOf = [&](const LatticeIndex& index) {
+    return Eigen::Vector2d((index.first - offset_azimuth) * spacing_rad_,
+                           (index.second - offset_elevation) * spacing_rad_);
+  };
+  const auto push = [&](int a, int e) {
+    const LatticeIndex index{a, e};
+    const double elevation = latticePose(index).elevation_rad;
+    if (std::abs(elevation) > limit) return;
+    const double distance = offsetOf(index).norm();
+    if (distance > 0.0 && distance <= max_distance + 1e-12) queue.push({distance, index});
+  };
+  bool found = false;
+  Eigen::Vector2d target_offset = Eigen::Vector2d::Zero();
+  for (int ring = 0; ring <= max_ring && !found; ++ring) {
+    if (ring == 0) {
+      push(center_a, center_e);
+    } else {
+      for (int i = -ring; i <= ring; ++i) {
+        push(center_a + i, center_e - ring);
+        push(center_a + i, center_e + ring);
+        if (i != -ring && i != ring) {
+          push(center_a - ring, center_e + i);
+          push(center_a + ring, center_e + i);
+        }
+      }
+    }
+    const double known =
+        ring == max_ring ? std::numeric_limits<double>::infinity() : (ring + 0.5) * spacing_rad_;
+    while (!queue.empty() && queue.top().first <= known) {
+      const LatticeIndex index = queue.top().second;
+      queue.pop();
+      if (solved(occlusionAtLattice(index))) {
+        found = true;
+        target_offset = offsetOf(index);
+        break;
+      }
+    }
+  }
+  // One step lands exactly on the circle of radius h: worth a look when the lattice's answer is
+  // at most two steps.
+  if (!found || stepsFor(target_offset.norm(), step_rad_) <= 2) {
+    for (int k = 0; k < options_.circle_directions; ++k) {
+      const double direction = 2.0 * M_PI * k / options_.circle_directions;
+      const Action step = move(direction, step_rad_);
+      if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
+      const SphericalPose there{pose.azimuth_rad + step.d_azimuth_rad,
+                                pose.elevation_rad + step.d_elevation_rad};
+      if (solved(occlusionAt(there))) {
+        answer.steps = 1;
+        answer.path = {step};
+        answer.target = there;
+        answer.poses_rendered = renders_;
+        return answer;
+      }
+    }
+  }
+  if (found) {
+    answer.steps = stepsFor(target_offset.norm(), step_rad_);
+    if (answer.steps <= options_.max_steps) {
+      answer.path = pathTo(target_offset, answer.steps, step_rad_, elevation_low, elevation_high);
+      answer.target = {pose.azimuth_rad + target_offset.x(),
+                       pose.elevation_rad + target_offset.y()};
+    } else {
+      answer.steps = -1;
+    }
+  }
+  answer.poses_rendered = renders_;
+  return answer;
+}
+
+OracleAgent::OracleAgent(Environment& environment, const OracleOptions& options)
+    : oracle_(environment, options) {}
+
+void OracleAgent::reset(std::uint64_t) {
+  oracle_.clear();
+  plan_ = {};
+  next_ = 0;
+  planned_ = false;
+}
+
+Action OracleAgent::act(const Observation&, const StepInfo& info) {
+  if (!planned_ || next_ >= plan_.path.size()) {
+    plan_ = oracle_.query(info.pose);
+    next_ = 0;
+    planned_ = true;
+  }
+  if (next_ >= plan_.path.size()) return {1.0, 0.0};  // nothing within reach: keep circling
+  return plan_.path[next_++];
+}
+
+AgentEntry oracleAgentEntry() {
+  AgentEntry entry;
+  entry.name = "oracle";
+  entry.summary =
+      "the fewest fixed-length steps to an unoccluded view, found by rendering other poses "
+      "(reads the scene: the floor of every table, not a competitor)";
+  entry.needs.simulation = true;
+  entry.competes = false;
+  entry.make = [](const AgentContext& context) {
+    return std::make_unique<OracleAgent>(*context.environment.simulation());
+  };
+  return entry;
+}
+
+}  // namespace occlusion_env

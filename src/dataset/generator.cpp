@@ -1,0 +1,479 @@
+#include "occlusion_env/dataset/generator.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <thread>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/random.hpp"
+#include "occlusion_env/dataset/bop_dataset.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
+#include "occlusion_env/occlusion/occlusion_gradient.hpp"
+
+namespace occlusion_env {
+namespace dataset {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kFormatVersion = 1;
+constexpr std::uint64_t kMoveStreamSalt = 0x6d6f7665736d6f76ull;  // the moves' own random stream
+
+std::string spaceLeft(const fs::path& path) {
+  std::error_code error;
+  const fs::space_info space = fs::space(path, error);
+  if (error) return "unknown";
+  return std::to_string(space.available / (1024 * 1024)) + " MiB";
+}
+
+[[noreturn]] void writeFailed(const fs::path& path) {
+  throw std::runtime_error("dataset: cannot write " + path.string() +
+                           " (disk full? space left: " + spaceLeft(path.parent_path()) + ")");
+}
+
+void writePng(const fs::path& path, const cv::Mat& image) {
+  if (!cv::imwrite(path.string(), image)) writeFailed(path);
+}
+
+// Written to a temporary name, then renamed: a file that exists is complete.
+void writeJsonFile(const fs::path& path, const nlohmann::json& json) {
+  const fs::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << json.dump(1) << '\n';
+    if (!out) writeFailed(temporary);
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) writeFailed(path);
+}
+
+nlohmann::json rowMajor(const Eigen::Matrix3d& matrix) {
+  nlohmann::json values = nlohmann::json::array();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) values.push_back(matrix(r, c));
+  }
+  return values;
+}
+
+nlohmann::json millimetres(const Eigen::Vector3d& metres) {
+  return {1000.0 * metres.x(), 1000.0 * metres.y(), 1000.0 * metres.z()};
+}
+
+nlohmann::json boundingBox(const cv::Mat& mask) {
+  if (cv::countNonZero(mask) == 0) return {-1, -1, -1, -1};
+  const cv::Rect box = cv::boundingRect(mask);
+  return {box.x, box.y, box.width, box.height};
+}
+
+EnvironmentOptions environmentOptionsOf(const nlohmann::json& defining) {
+  EnvironmentOptions options;
+  options.width = options.height = defining.at("size").get<int>();
+  options.catalog.source = defining.at("source").get<std::string>();
+  options.catalog.paths = defining.at("catalog_paths").get<std::vector<std::string>>();
+  options.scene.categories = defining.at("categories").get<std::vector<std::string>>();
+  options.scene.num_objects = defining.at("num_objects").get<int>();
+  options.scene.model_split = parseModelSplit(defining.at("model_split").get<std::string>());
+  return options;
+}
+
+// One worker: an environment (its GL context on the worker's thread) and what labels need.
+struct Worker {
+  Worker(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)
+      : environment(options, std::move(library)), gradient(options.gradient), oracle(environment) {}
+  Environment environment;
+  AnalyticOcclusionGradient gradient;
+  OcclusionOracle oracle;
+  cv::Mat bgr, depth16, mask, occlusion;
+};
+
+// The labels of the view `buffers` show at `pose`, before the oracle (which renders elsewhere).
+FrameLabels viewLabels(Worker& worker, const RenderBuffers& buffers, const SphericalPose& pose,
+                       int image_id, cv::Mat& occlusion_mask) {
+  Environment& environment = worker.environment;
+  const int num_objects = environment.numObjects();
+  FrameLabels labels;
+  labels.image_id = image_id;
+  labels.pose = pose;
+  labels.occlusion_px =
+      computeOcclusion(buffers.amodal_bits, num_objects, &occlusion_mask).total_pixels;
+  const GradientResult gradient = worker.gradient.compute(
+      buffers, num_objects, environment.intrinsics(), environment.camera(), pose);
+  labels.smooth_loss_px = gradient.loss;
+  labels.gradient_azimuth = gradient.gradient.x();
+  labels.gradient_elevation = gradient.gradient.y();
+  labels.gradient_valid = gradient.valid;
+  if (gradient.valid) labels.descent = directionOf(-gradient.gradient.x(), -gradient.gradient.y());
+  return labels;
+}
+
+void addOracleLabels(Worker& worker, FrameLabels& labels) {
+  const OracleAnswer answer = worker.oracle.query(labels.pose);
+  labels.has_oracle = true;
+  labels.oracle_steps = answer.steps;
+  if (!answer.path.empty()) {
+    labels.escape =
+        directionOf(answer.path.front().d_azimuth_rad, answer.path.front().d_elevation_rad);
+  }
+}
+
+// The pose of every frame of a scene: the start view, then a random walk.
+std::vector<SphericalPose> framePoses(const Environment& environment, const SphericalPose& start,
+                                      std::uint64_t seed, const DatasetOptions& options) {
+  RandomSource moves(seed ^ kMoveStreamSalt);
+  const double step = environment.options().step_size_rad;
+  std::vector<SphericalPose> poses = {start};
+  while (static_cast<int>(poses.size()) < options.frames) {
+    const double direction = moves.uniform(0.0, 2.0 * M_PI);
+    const int steps =
+        1 + static_cast<int>(moves.below(static_cast<std::uint64_t>(options.max_move_steps)));
+    poses.push_back(environment.camera().moved(poses.back(), steps * step * std::cos(direction),
+                                               steps * step * std::sin(direction)));
+  }
+  return poses;
+}
+
+void writeScene(Worker& worker, const std::string& dir, int index, std::uint64_t seed,
+                const DatasetOptions& options) {
+  Environment& environment = worker.environment;
+  const StepResult start = environment.reset(seed);
+  const int num_objects = environment.numObjects();
+  const fs::path folder = sceneFolder(dir, index);
+  for (const char* sub : {"rgb", "depth", "mask", "mask_visib", "occlusion"}) {
+    fs::create_directories(folder / sub);
+  }
+  worker.oracle.clear(start.info.pose);
+  const CameraIntrinsics& k = environment.intrinsics();
+  const Eigen::Matrix3d camera_matrix =
+      (Eigen::Matrix3d() << k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0).finished();
+  nlohmann::json scene_camera, scene_gt, scene_gt_info, scene_labels;
+  const std::vector<SphericalPose> poses = framePoses(environment, start.info.pose, seed, options);
+  for (int image = 0; image < options.frames; ++image) {
+    const SphericalPose& pose = poses[image];
+    const RenderBuffers& buffers = environment.renderAt(pose);
+    const std::string name = idName(image);
+    cv::cvtColor(buffers.rgb, worker.bgr, cv::COLOR_RGB2BGR);
+    writePng(folder / "rgb" / (name + ".png"), worker.bgr);
+    worker.depth16.create(buffers.depth.size(), CV_16UC1);
+    for (int row = 0; row < buffers.depth.rows; ++row) {
+      const float* in = buffers.depth.ptr<float>(row);
+      std::uint16_t* out = worker.depth16.ptr<std::uint16_t>(row);
+      for (int col = 0; col < buffers.depth.cols; ++col) {
+        const double units = std::round(in[col] * 1000.0 / kDepthScaleMm);
+        out[col] = std::isfinite(in[col])
+                       ? static_cast<std::uint16_t>(std::clamp(units, 1.0, 65535.0))
+                       : 0;
+      }
+    }
+    writePng(folder / "depth" / (name + ".png"), worker.depth16);
+
+    const Eigen::Isometry3d optical_from_world =
+        environment.camera().worldFromOptical(pose).inverse();
+    scene_camera[std::to_string(image)] = {
+        {"cam_K", rowMajor(camera_matrix)},
+        {"depth_scale", kDepthScaleMm},
+        {"cam_R_w2c", rowMajor(optical_from_world.linear())},
+        {"cam_t_w2c", millimetres(optical_from_world.translation())}};
+    nlohmann::json gt = nlohmann::json::array(), info = nlohmann::json::array();
+    for (int object = 0; object < num_objects; ++object) {
+      const Eigen::Isometry3d optical_from_object =
+          optical_from_world * Eigen::Translation3d(environment.scene().objects[object].position_m);
+      gt.push_back({{"cam_R_m2c", rowMajor(optical_from_object.linear())},
+                    {"cam_t_m2c", millimetres(optical_from_object.translation())},
+                    {"obj_id", object + 1}});
+      const cv::Mat amodal = (buffers.amodal_bits & (1 << object)) != 0;
+      const cv::Mat visible = buffers.instance == (object + 1);
+      const std::string mask_name = name + "_" + idName(object) + ".png";
+      writePng(folder / "mask" / mask_name, amodal);
+      writePng(folder / "mask_visib" / mask_name, visible);
+      const int all = cv::countNonZero(amodal), visible_count = cv::countNonZero(visible);
+      info.push_back({{"bbox_obj", boundingBox(amodal)},
+                      {"bbox_visib", boundingBox(visible)},
+                      {"px_count_all", all},
+                      {"px_count_valid", all},  // depth is valid wherever something is hit
+                      {"px_count_visib", visible_count},
+                      {"visib_fract", all > 0 ? static_cast<double>(visible_count) / all : 0.0}});
+    }
+    scene_gt[std::to_string(image)] = gt;
+    scene_gt_info[std::to_string(image)] = info;
+
+    FrameLabels labels = viewLabels(worker, buffers, pose, image, worker.occlusion);
+    writePng(folder / "occlusion" / (name + ".png"), worker.occlusion);
+    if (options.oracle_labels) addOracleLabels(worker, labels);  // renders elsewhere: last
+    scene_labels[std::to_string(image)] = toJson(labels);
+  }
+  writeJsonFile(folder / "scene_camera.json", scene_camera);
+  writeJsonFile(folder / "scene_gt.json", scene_gt);
+  writeJsonFile(folder / "scene_gt_info.json", scene_gt_info);
+  writeJsonFile(folder / kLabelsFile, scene_labels);  // last: the scene is complete
+}
+
+nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& catalog) {
+  nlohmann::json scenes = nlohmann::json::array();
+  const int every =
+      options.validation_fraction > 0.0
+          ? std::max(1, static_cast<int>(std::lround(1.0 / options.validation_fraction)))
+          : 0;
+  for (int index = 0; index < options.scenes; ++index) {
+    const bool validation = every > 0 && index % every == every - 1;
+    scenes.push_back({{"index", index},
+                      {"seed", options.first_seed + static_cast<std::uint64_t>(index)},
+                      {"split", validation ? "val" : "train"}});
+  }
+  std::vector<std::string> train_models, test_models;
+  for (const ObjectInfo& info : catalog.objects()) {
+    if (!options.categories.empty() &&
+        std::find(options.categories.begin(), options.categories.end(), info.category) ==
+            options.categories.end()) {
+      continue;
+    }
+    (modelSplitOf(catalog, info.id) == ModelSplit::kTrain ? train_models : test_models)
+        .push_back(info.id);
+  }
+  return {
+      {"tool", "occlusion_dataset"},
+      {"format_version", kFormatVersion},
+      {"format", "BOP (scene folders under train/), plus occlusion/ and scene_labels.json"},
+      {"options", options.definingJson()},
+      {"depth_scale_mm", kDepthScaleMm},
+      {"direction_convention",
+       "theta = atan2(d_elevation, d_azimuth) [rad], 0 = +azimuth, pi/2 = up; stored as "
+       "(sin, cos); a horizontal image flip maps (sin, cos) to (sin, -cos)"},
+      {"frame_moves",
+       "frame 0: the scene's start view; each next frame: 1..max_move_steps steps (uniform) "
+       "of step_size in one direction ~ U[0, 2 pi) from the previous frame (elevation clamped)"},
+      {"model_split",
+       {{"split", "train"}, {"train_models", train_models}, {"test_models_excluded", test_models}}},
+      {"validation", "whole scenes: every " + std::to_string(every) + "th scene (index % " +
+                         std::to_string(every) + " == " + std::to_string(every - 1) + ")"},
+      {"scenes", scenes}};
+}
+
+}  // namespace
+
+nlohmann::json DatasetOptions::definingJson() const {
+  return {{"first_seed", first_seed},
+          {"frames", frames},
+          {"size", size},
+          {"source", source},
+          {"catalog_paths", catalog_paths},
+          {"categories", categories},
+          {"num_objects", num_objects},
+          {"max_move_steps", max_move_steps},
+          {"oracle_labels", oracle_labels},
+          {"validation_fraction", validation_fraction},
+          {"model_split", "train"},
+          {"step_size_rad", EnvironmentOptions().step_size_rad}};
+}
+
+void DatasetOptions::validate() const {
+  if (scenes < 1) throw InvalidArgumentError("scenes must be >= 1");
+  if (frames < 1 || frames > 100000) throw InvalidArgumentError("frames must be in [1, 100000]");
+  if (first_seed + static_cast<std::uint64_t>(scenes) > kFirstTestSeed) {
+    throw InvalidArgumentError(
+        "training scenes must use seeds below " + std::to_string(kFirstTestSeed) +
+        " (test sets start there); first seed " + std::to_string(first_seed) + " + " +
+        std::to_string(scenes) + " scenes reaches into them");
+  }
+  if (size < 64 || size > 1024) throw InvalidArgumentError("size must be in [64, 1024] px");
+  if (max_move_steps < 1 || max_move_steps > 100)
+    throw InvalidArgumentError("max_move_steps must be in [1, 100]");
+  if (!(validation_fraction >= 0.0 && validation_fraction <= 0.5)) {
+    throw InvalidArgumentError("validation_fraction must be in [0, 0.5]");
+  }
+  if (threads < 1 || threads > 64) throw InvalidArgumentError("threads must be in [1, 64]");
+  if (num_objects < 2 || num_objects > kMaxSceneObjects) {
+    throw InvalidArgumentError("num_objects must be in [2, " + std::to_string(kMaxSceneObjects) +
+                               "]");
+  }
+}
+
+GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
+                                 const ProgressCallback& progress) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  EnvironmentOptions environment_options = environmentOptionsOf(options.definingJson());
+  environment_options.validate();
+  auto library = std::make_shared<ObjectLibrary>(makeCatalog(environment_options.catalog),
+                                                 environment_options.lod_triangle_budget);
+  const nlohmann::json manifest = manifestFor(options, library->catalog());
+  const fs::path manifest_path = fs::path(dir) / kManifestFile;
+  if (fs::exists(manifest_path)) {
+    std::ifstream in(manifest_path);
+    nlohmann::json existing;
+    try {
+      existing = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& error) {
+      throw InvalidArgumentError(manifest_path.string() +
+                                 " is not a dataset manifest: " + error.what());
+    }
+    const nlohmann::json theirs = existing.value("options", nlohmann::json::object());
+    const nlohmann::json ours = options.definingJson();
+    std::string differing;
+    for (const auto& [key, value] : ours.items()) {
+      if (!theirs.contains(key) || theirs.at(key) != value) {
+        differing += (differing.empty() ? "" : ", ") + key + " (" +
+                     (theirs.contains(key) ? theirs.at(key).dump() : "missing") + " there, " +
+                     value.dump() + " here)";
+      }
+    }
+    if (!differing.empty()) {
+      throw InvalidArgumentError("the dataset in " + dir + " was made with other options: " +
+                                 differing + "; use another folder or the same options");
+    }
+  } else if (fs::exists(dir) && !fs::is_empty(dir)) {
+    throw InvalidArgumentError(dir + " exists and holds no dataset: choose an empty or new folder");
+  }
+  fs::create_directories(fs::path(dir) / kSplitFolder);
+  writeJsonFile(manifest_path, manifest);
+
+  std::vector<int> todo;
+  GenerationReport report;
+  for (int index = 0; index < options.scenes; ++index) {
+    if (fs::exists(fs::path(sceneFolder(dir, index)) / kLabelsFile)) {
+      ++report.scenes_skipped;
+    } else {
+      todo.push_back(index);
+    }
+  }
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;
+  std::exception_ptr error;
+  int done = 0;
+  const auto work = [&] {
+    try {
+      Worker worker(environment_options, library);
+      while (!failed) {
+        const std::size_t slot = next++;
+        if (slot >= todo.size()) break;
+        const int index = todo[slot];
+        writeScene(worker, dir, index, options.first_seed + static_cast<std::uint64_t>(index),
+                   options);
+        const std::lock_guard<std::mutex> lock(mutex);
+        ++done;
+        if (progress) progress(done, static_cast<int>(todo.size()));
+      }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+  };
+  const int threads = std::min<int>(options.threads, std::max<std::size_t>(1, todo.size()));
+  std::vector<std::thread> workers;
+  for (int t = 0; t < threads; ++t) workers.emplace_back(work);
+  for (std::thread& worker : workers) worker.join();
+  if (error) std::rethrow_exception(error);
+  report.scenes_written = done;
+  report.frames_written = done * options.frames;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+AuditReport auditDataset(const std::string& dir, int samples, std::uint64_t seed) {
+  const BopDataset data(dir);
+  if (data.frames().empty())
+    throw InvalidArgumentError("dataset " + dir + " holds no complete scene");
+  const nlohmann::json& defining = data.manifest().at("options");
+  if (defining.at("step_size_rad").get<double>() != EnvironmentOptions().step_size_rad) {
+    throw InvalidArgumentError("dataset " + dir + " was made with another step size");
+  }
+  // Frames drawn with their own random source, then grouped by scene (one reset each).
+  RandomSource random(seed);
+  std::map<int, std::vector<const Frame*>> by_scene;
+  const int count = std::min<int>(samples, static_cast<int>(data.frames().size()));
+  std::vector<std::size_t> order(data.frames().size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  for (int i = 0; i < count; ++i) {
+    const std::size_t j = i + random.below(order.size() - i);
+    std::swap(order[i], order[j]);
+    const Frame& frame = data.frames()[order[i]];
+    by_scene[frame.scene_index].push_back(&frame);
+  }
+  const EnvironmentOptions options = environmentOptionsOf(defining);
+  Worker worker(options, nullptr);
+  AuditReport report;
+  const auto problem = [&report](const Frame& frame, const std::string& what) {
+    ++report.failures;
+    if (report.problems.size() < 50) {
+      report.problems.push_back("scene " + idName(frame.scene_index) + " image " +
+                                idName(frame.labels.image_id) + ": " + what);
+    }
+  };
+  for (const auto& [scene, frames] : by_scene) {
+    const StepResult start = worker.environment.reset(frames.front()->scene_seed);
+    worker.oracle.clear(start.info.pose);
+    for (const Frame* frame : frames) {
+      ++report.frames_checked;
+      const FrameLabels& stored = frame->labels;
+      const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
+      const std::string folder = sceneFolder(dir, frame->scene_index);
+      const std::string name = idName(stored.image_id);
+      if (cv::norm(data.readRgb(*frame), buffers.rgb, cv::NORM_INF) != 0.0)
+        problem(*frame, "rgb differs");
+      const cv::Mat depth = data.readDepthMeters(*frame);
+      double worst_depth = 0.0;
+      bool holes_match = true;
+      for (int row = 0; row < depth.rows; ++row) {
+        for (int col = 0; col < depth.cols; ++col) {
+          const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
+          if (std::isnan(a) != std::isnan(b)) holes_match = false;
+          if (!std::isnan(a) && !std::isnan(b))
+            worst_depth = std::max(worst_depth, std::abs(double(a) - b));
+        }
+      }
+      if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
+        problem(*frame, "depth differs (worst " + std::to_string(worst_depth) + " m)");
+      }
+      for (int object = 0; object < worker.environment.numObjects(); ++object) {
+        const cv::Mat amodal = cv::imread(folder + "/mask/" + name + "_" + idName(object) + ".png",
+                                          cv::IMREAD_GRAYSCALE);
+        const cv::Mat expected = (buffers.amodal_bits & (1 << object)) != 0;
+        if (amodal.empty() || cv::norm(amodal, expected, cv::NORM_INF) != 0.0) {
+          problem(*frame, "amodal mask of object " + std::to_string(object) + " differs");
+        }
+      }
+      cv::Mat occlusion;
+      FrameLabels labels = viewLabels(worker, buffers, stored.pose, stored.image_id, occlusion);
+      if (cv::norm(data.readOcclusionMask(*frame), occlusion, cv::NORM_INF) != 0.0) {
+        problem(*frame, "occlusion mask differs");
+      }
+      if (labels.occlusion_px != stored.occlusion_px) problem(*frame, "occlusion_px differs");
+      const auto close = [](double a, double b) {
+        return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(b));
+      };
+      if (!close(labels.smooth_loss_px, stored.smooth_loss_px) ||
+          !close(labels.gradient_azimuth, stored.gradient_azimuth) ||
+          !close(labels.gradient_elevation, stored.gradient_elevation) ||
+          labels.gradient_valid != stored.gradient_valid) {
+        problem(*frame, "gradient label differs");
+      }
+      if (stored.has_oracle) {
+        addOracleLabels(worker, labels);
+        const bool same_escape =
+            labels.escape.has_value() == stored.escape.has_value() &&
+            (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
+        if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
+          problem(*frame, "oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
+                              std::to_string(stored.oracle_steps) + " steps)");
+        }
+      }
+    }
+  }
+  return report;
+}
+
+}  // namespace dataset
+}  // namespace occlusion_env

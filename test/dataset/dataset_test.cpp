@@ -1,0 +1,187 @@
+// The BOP dataset: a tiny one generated, read back by an independent reader (nlohmann::json and
+// cv::imread, not the library's reader), audited, resumed and refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/dataset/bop_dataset.hpp"
+#include "occlusion_env/dataset/generator.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+
+namespace occlusion_env {
+namespace dataset {
+namespace {
+
+namespace fs = std::filesystem;
+
+DatasetOptions tinyOptions() {
+  DatasetOptions options;
+  options.scenes = 2;
+  options.frames = 12;  // more than 10: ids that sort differently as strings
+  options.size = 64;
+  options.threads = 2;
+  options.validation_fraction = 0.5;
+  return options;
+}
+
+// Generated once for the tests below.
+const std::string& tinyDataset() {
+  static const std::string dir = [] {
+    const fs::path path =
+        fs::temp_directory_path() / ("occlusion_env_dataset_test_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+    const GenerationReport report = generateDataset(path.string(), tinyOptions());
+    EXPECT_EQ(report.scenes_written, 2);
+    EXPECT_EQ(report.frames_written, 24);
+    return path.string();
+  }();
+  return dir;
+}
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(DatasetTest, FilesFollowTheBopConventions) {
+  const fs::path scene = fs::path(tinyDataset()) / "train" / "000001";
+  const nlohmann::json camera = readJson(scene / "scene_camera.json");
+  const nlohmann::json gt = readJson(scene / "scene_gt.json");
+  const nlohmann::json info = readJson(scene / "scene_gt_info.json");
+  ASSERT_EQ(camera.size(), 12u);
+  EnvironmentOptions options;
+  options.width = options.height = 64;
+  const CameraIntrinsics k = CameraIntrinsics::fromFieldOfView(64, 64, options.field_of_view_rad);
+  for (int image : {0, 7, 11}) {
+    const std::string key = std::to_string(image);
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d", image);
+    // K, row-major; depth_scale in mm per unit.
+    const std::vector<double> cam_k = camera.at(key).at("cam_K").get<std::vector<double>>();
+    ASSERT_EQ(cam_k.size(), 9u);
+    EXPECT_DOUBLE_EQ(cam_k[0], k.fx);
+    EXPECT_DOUBLE_EQ(cam_k[2], k.cx);
+    EXPECT_DOUBLE_EQ(cam_k[4], k.fy);
+    EXPECT_DOUBLE_EQ(cam_k[5], k.cy);
+    EXPECT_DOUBLE_EQ(cam_k[8], 1.0);
+    const double depth_scale = camera.at(key).at("depth_scale").get<double>();
+    // Object 0 sits at the world origin: its translation is the world's, in mm.
+    const auto t_w2c = camera.at(key).at("cam_t_w2c").get<std::vector<double>>();
+    const auto t_m2c = gt.at(key).at(0).at("cam_t_m2c").get<std::vector<double>>();
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(t_w2c[i], t_m2c[i], 1e-9);
+    EXPECT_NEAR(std::hypot(t_w2c[0], t_w2c[1], t_w2c[2]), 4000.0, 1e-6);  // 4 m away
+    // The origin projects near the image centre (the camera looks at it).
+    EXPECT_NEAR(t_w2c[0], 0.0, 1e-6);
+    EXPECT_NEAR(t_w2c[1], 0.0, 1e-6);
+    // Depth: 16-bit, depth_scale mm per unit, 0 = nothing hit; each object's masks.
+    const cv::Mat depth =
+        cv::imread((scene / "depth" / (std::string(name) + ".png")).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(depth.type(), CV_16UC1);
+    cv::Mat covered = cv::Mat::zeros(depth.size(), CV_8UC1);
+    for (std::size_t object = 0; object < gt.at(key).size(); ++object) {
+      char mask_name[48];
+      std::snprintf(mask_name, sizeof mask_name, "%06d_%06zu.png", image, object);
+      const cv::Mat amodal =
+          cv::imread((scene / "mask" / mask_name).string(), cv::IMREAD_GRAYSCALE);
+      const cv::Mat visible =
+          cv::imread((scene / "mask_visib" / mask_name).string(), cv::IMREAD_GRAYSCALE);
+      ASSERT_FALSE(amodal.empty());
+      ASSERT_FALSE(visible.empty());
+      EXPECT_EQ(cv::countNonZero(amodal), info.at(key).at(object).at("px_count_all").get<int>());
+      EXPECT_EQ(cv::countNonZero(visible), info.at(key).at(object).at("px_count_visib").get<int>());
+      EXPECT_EQ(cv::countNonZero(visible & ~amodal), 0) << "visible outside the full silhouette";
+      covered |= visible;
+    }
+    // Every visible pixel has a depth, and only those; depths are metres-sized.
+    EXPECT_EQ(cv::countNonZero(covered != (depth > 0)), 0);
+    double max_units = 0.0;
+    cv::minMaxLoc(depth, nullptr, &max_units);
+    EXPECT_GT(max_units * depth_scale, 2000.0);  // [mm]
+    EXPECT_LT(max_units * depth_scale, 6000.0);
+  }
+}
+
+TEST(DatasetTest, LabelsAreKeyedByImageIdAndMatchTheirMasks) {
+  const fs::path scene = fs::path(tinyDataset()) / "train" / "000000";
+  const nlohmann::json labels = readJson(scene / "scene_labels.json");
+  const nlohmann::json gt = readJson(scene / "scene_gt.json");
+  ASSERT_EQ(labels.size(), 12u);
+  for (const auto& [key, label] : labels.items()) {
+    const int image = std::stoi(key);
+    // L (Eq. 9) from this image's own mask files equals its label: masks and labels align.
+    std::vector<cv::Mat> masks;
+    for (std::size_t object = 0; object < gt.at(key).size(); ++object) {
+      char mask_name[48];
+      std::snprintf(mask_name, sizeof mask_name, "%06d_%06zu.png", image, object);
+      masks.push_back(cv::imread((scene / "mask" / mask_name).string(), cv::IMREAD_GRAYSCALE));
+    }
+    std::int64_t pairs = 0;
+    for (std::size_t i = 0; i < masks.size(); ++i) {
+      for (std::size_t j = i + 1; j < masks.size(); ++j)
+        pairs += cv::countNonZero(masks[i] & masks[j]);
+    }
+    EXPECT_EQ(pairs, label.at("occlusion_px").get<std::int64_t>()) << "image " << key;
+    // Directions are unit vectors with their angle.
+    if (!label.at("descent_direction").is_null()) {
+      const auto& d = label.at("descent_direction");
+      EXPECT_NEAR(std::hypot(d.at("sin").get<double>(), d.at("cos").get<double>()), 1.0, 1e-12);
+      EXPECT_NEAR(std::atan2(d.at("sin").get<double>(), d.at("cos").get<double>()),
+                  d.at("angle_rad").get<double>(), 1e-12);
+    }
+    EXPECT_EQ(label.at("oracle_steps").get<int>() == 0, label.at("occlusion_px").get<int>() == 0);
+  }
+  // Frame 0 is the scene's start view; later frames moved by whole steps.
+  EXPECT_LT(std::abs(labels.at("0").at("azimuth_rad").get<double>()), M_PI / 32 + 1e-12);
+}
+
+TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
+  const std::string dir = tinyDataset();
+  const BopDataset data(dir);
+  EXPECT_EQ(data.frames().size(), 24u);
+  EXPECT_EQ(data.sceneCount(), 2);
+  int validation = 0;
+  for (const Frame& frame : data.frames()) validation += frame.validation;
+  EXPECT_EQ(validation, 12);  // one of the two scenes
+  const cv::Mat depth = data.readDepthMeters(data.frames().front());
+  EXPECT_EQ(depth.type(), CV_32FC1);
+
+  const AuditReport audit = auditDataset(dir, 10);
+  EXPECT_EQ(audit.frames_checked, 10);
+  EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());
+
+  // Resume: nothing left to do. Other options: refused, naming them.
+  const GenerationReport again = generateDataset(dir, tinyOptions());
+  EXPECT_EQ(again.scenes_written, 0);
+  EXPECT_EQ(again.scenes_skipped, 2);
+  DatasetOptions other = tinyOptions();
+  other.size = 96;
+  try {
+    generateDataset(dir, other);
+    ADD_FAILURE() << "a dataset with other options was extended";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_NE(std::string(error.what()).find("size"), std::string::npos) << error.what();
+  }
+  // Test seeds are refused.
+  DatasetOptions test_seeds = tinyOptions();
+  test_seeds.first_seed = kFirstTestSeed - 1;
+  EXPECT_THROW(generateDataset(dir + "_test_seeds", test_seeds), InvalidArgumentError);
+
+  // A tampered label fails the audit.
+  const fs::path labels_path = fs::path(dir) / "train" / "000000" / "scene_labels.json";
+  nlohmann::json labels = readJson(labels_path);
+  for (auto& [key, label] : labels.items())
+    label["occlusion_px"] = label["occlusion_px"].get<int>() + 1;
+  std::ofstream(labels_path) << labels.dump();
+  EXPECT_GT(auditDataset(dir, 24).failures, 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace dataset
+}  // namespace occlusion_env
