@@ -238,7 +238,10 @@ AgentEntry oracleAgentEntry() {
   entry.needs.simulation = true;
   entry.competes = false;
   entry.make = [](const AgentContext& context) {
-    return std::make_unique<OracleAgent>(*context.environment.simulation());
+    // Once per episode, so it can afford the finer lattice (doc/ORACLE.md): a quarter step.
+    OracleOptions options;
+    options.lattice_spacing_steps = 0.25;
+    return std::make_unique<OracleAgent>(*context.environment.simulation(), options);
   };
   return entry;
 }

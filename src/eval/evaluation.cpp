@@ -38,7 +38,7 @@ std::vector<EpisodeRecord> runEvaluation(const EvaluationPlan& plan, const Agent
   if (csv) *csv << episodeCsvHeader() << "\n" << std::flush;
   std::vector<EpisodeRecord> records;
   for (const auto& agent_name : agents) {
-    std::unique_ptr<Agent> agent = registry.make(agent_name, {environment, ""});
+    std::unique_ptr<Agent> agent = registry.make(agent_name, {environment, plan.model_path});
     for (const auto seed : plan.scenes.seeds) {
       for (const double azimuth : azimuths) {
         EpisodeRequest request;

@@ -178,6 +178,7 @@ const std::vector<std::string>& simulatorParameterNames() {
                                                   "optical_frame",
                                                   "tf_rate",
                                                   "start_seed",
+                                                  "offer_gradient",
                                                   "gradient_method",
                                                   "gradient_blur_sigma",
                                                   "gradient_finite_difference_step",
@@ -227,6 +228,7 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   reader.read("optical_frame", options.optical_frame);
   reader.read("tf_rate", options.tf_rate_hz);
   reader.read("start_seed", options.start_seed);
+  reader.read("offer_gradient", options.offer_gradient);
   reader.read("gradient_method", environment.gradient_method);
   reader.read("gradient_blur_sigma", environment.gradient.blur_sigma_px);
   reader.read("gradient_finite_difference_step", environment.gradient.finite_difference_step_rad);

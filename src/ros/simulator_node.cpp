@@ -70,8 +70,10 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
 
   reset_service_ = node_.advertiseService(names::kResetService, &SimulatorNode::reset, this);
   step_service_ = node_.advertiseService(names::kStepService, &SimulatorNode::step, this);
-  gradient_service_ =
-      node_.advertiseService(names::kGradientService, &SimulatorNode::getOcclusionGradient, this);
+  if (options_.offer_gradient) {
+    gradient_service_ =
+        node_.advertiseService(names::kGradientService, &SimulatorNode::getOcclusionGradient, this);
+  }
   move_subscriber_ = node_.subscribe(names::kMoveTopic, 10, &SimulatorNode::onMove, this);
   if (options_.tf_rate_hz > 0.0) {
     tf_timer_ = node_.createTimer(ros::Duration(1.0 / options_.tf_rate_hz),

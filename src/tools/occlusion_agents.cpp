@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "occlusion_env/agents/core_agents.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -163,7 +164,7 @@ int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const occlusion_env::AgentRegistry registry = occlusion_env::coreAgents();
+  const occlusion_env::AgentRegistry registry = occlusion_env::learning::learningAgents();
   const Arguments args = parse(argc, argv, registry);
   try {
     return run(args, registry);

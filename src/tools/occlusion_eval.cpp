@@ -6,11 +6,13 @@
 //   occlusion_eval --summarize OUT/test_embedded_episodes.csv   (summary and plots only)
 //   occlusion_eval --all --out doc/evaluation --report EVALUATION.md   (what scripts/evaluate.sh
 //                                                                       runs: EVALUATION.md)
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -27,6 +29,7 @@
 #include "occlusion_env/eval/subprocess.hpp"
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/eval/sweep.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace fs = std::filesystem;
@@ -37,7 +40,7 @@ namespace {
 
 // Every agent this tool knows.
 const AgentRegistry& registry() {
-  static const AgentRegistry agents = coreAgents();
+  static const AgentRegistry agents = learning::learningAgents();
   return agents;
 }
 
@@ -62,6 +65,7 @@ options:
   --no-plots           skip the PNGs
   --plot-script PATH   default: scripts/plot_evaluation.py of the source tree
   --source-dir DIR     where config/scenes and scripts are (default: the build's source tree)
+  --model PATH         the model of the agents that need one (default: each one's shipped model)
   --report FILE        with --all: also write the evaluation report (EVALUATION.md) to FILE,
                        its links pointing into --out
 )";
@@ -82,6 +86,7 @@ struct CommandLine {
   std::string source_dir = OCCLUSION_ENV_SOURCE_DIR;
   std::string plot_script;
   std::string report;
+  std::string model;
 };
 
 CommandLine parse(int argc, char** argv) {
@@ -116,6 +121,8 @@ CommandLine parse(int argc, char** argv) {
       cl.best.samples_per_chain = static_cast<int>(args.integer(1, 100000000));
     } else if (arg == "--no-plots") {
       cl.plots = false;
+    } else if (arg == "--model") {
+      cl.model = args.text();
     } else if (arg == "--plot-script") {
       cl.plot_script = args.text();
     } else if (arg == "--source-dir") {
@@ -201,6 +208,7 @@ std::string runSceneSet(const CommandLine& cl, const std::string& scenes_path) {
     plan.scenes.seeds.resize(cl.limit);
   }
   plan.agents = cl.agents.empty() ? registry().names() : cl.agents;  // the oracle too
+  plan.model_path = cl.model;
   plan.max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlan(cl, plan, csv_path);
@@ -212,6 +220,7 @@ std::string runSweep(const CommandLine& cl, const std::string& preset) {
   plan.scenes = sweepSceneSet(preset, cl.sweep_source);
   plan.start_azimuths_rad = sweepStartAzimuths();
   plan.agents = cl.agents.empty() ? registry().competitors() : cl.agents;
+  plan.model_path = cl.model;
   plan.max_steps = cl.max_steps > 0 ? cl.max_steps : kSweepMaxSteps;
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + ".csv")).string();
   const auto records = runPlan(cl, plan, csv_path);
@@ -258,7 +267,7 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
   EpisodeRunOptions run_options;
   run_options.max_steps = max_steps;
   for (const std::string& name : cl.agents.empty() ? registry().names() : cl.agents) {
-    const std::unique_ptr<Agent> agent = registry().make(name, {env, ""});
+    const std::unique_ptr<Agent> agent = registry().make(name, {env, cl.model});
     EpisodeRequest request;
     request.agent = name;
     request.scene_set = set.name;
@@ -352,8 +361,62 @@ std::string withLinkPrefix(const std::string& markdown, const std::string& prefi
   return std::regex_replace(markdown, kLocalLink, "](" + prefix + "$1)");
 }
 
+// Table 3 layout: the validation figures of every shipped model (models/*.json), beside the
+// paper's rows.
+std::string networkSection(const CommandLine& cl) {
+  std::vector<fs::path> manifests;
+  const fs::path models = fs::path(cl.source_dir) / "models";
+  if (fs::is_directory(models)) {
+    for (const auto& entry : fs::directory_iterator(models)) {
+      if (entry.path().extension() == ".json") manifests.push_back(entry.path());
+    }
+  }
+  std::sort(manifests.begin(), manifests.end());
+  std::ostringstream md;
+  md << "## The multi-task network (Table 3 layout)\n\n"
+     << "Validation figures of the shipped models (`models/`, trained by `occlusion_train`; "
+        "commands and checksums in `models/MANIFEST.md`) on the validation scenes of their "
+        "dataset, at the network's resolution. Dice = soft Dice loss (Eq. 10); IoU and pixel "
+        "accuracy of the occlusion map thresholded at 0.5; MSE = ||prediction - (sin, cos)||^2 "
+        "(Eq. 11); angle = mean angular error of the normalised prediction. The paper's rows: "
+        "256 px ShapeNet images and its own gradient labels.\n\n"
+     << "| Model | Variant | Size | Epoch | Dice | Pixel acc | IoU | Gradient MSE | Gradient "
+        "angle | Escape MSE | Escape angle "
+        "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const fs::path& path : manifests) {
+    std::ifstream in(path);
+    nlohmann::json manifest;
+    try {
+      manifest = nlohmann::json::parse(in);
+    } catch (const std::exception&) {
+      continue;
+    }
+    if (!manifest.contains("validation") || !manifest.contains("network")) continue;
+    const nlohmann::json& v = manifest["validation"];
+    const nlohmann::json& net = manifest["network"];
+    const std::string loss =
+        manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
+    md << std::fixed << "| `" << path.stem().string() << "` | " << net.value("variant", "?")
+       << (loss == "smooth_l1" ? "-L1" : "") << " | " << net.value("input_size", 0) << " | "
+       << manifest.value("epoch", 0) << " | " << std::setprecision(3)
+       << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
+       << 100.0 * v.value("val_pixel_accuracy", 0.0) << " % | " << 100.0 * v.value("val_iou", 0.0)
+       << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << " | "
+       << std::setprecision(1) << v.value("val_gradient_angle_deg", 0.0) << " deg | "
+       << std::setprecision(3) << v.value("val_escape_mse", 0.0) << " | " << std::setprecision(1)
+       << v.value("val_escape_angle_deg", 0.0) << " deg |\n";
+  }
+  md << "| paper: Base UNet | unet | 256 | - | 0.607 | 99.65 % | 61.09 % | 0.038 | - | - | - |\n"
+     << "| paper: R-UNet | r_unet | 256 | - | 0.606 | 99.65 % | 61.47 % | 0.038 | - | - | - |\n"
+     << "| paper: SR-UNet | sr_unet | 256 | - | 0.610 | 99.64 % | 60.34 % | 0.038 | - | - | - |\n"
+     << "| paper: SAR-UNet | sar_unet | 256 | - | 0.609 | 99.66 % | 61.87 % | 0.038 | - | - | - |\n"
+     << "| paper: SAR-UNet-L1 | sar_unet-L1 | 256 | - | 0.604 | 99.67 % | 62.37 % | 0.005 | - | - "
+        "| - |\n\n";
+  return md.str();
+}
+
 void runAll(const CommandLine& cl) {
-  std::string sections;
+  std::string sections = networkSection(cl);
   for (const char* set : {"test_embedded", "test_sweethome3d", "test_sweethome3d_unseen"}) {
     const std::string summary = runSceneSet(cl, cl.source_dir + "/config/scenes/" + set + ".yaml");
     // The scene set's own heading, one level down.

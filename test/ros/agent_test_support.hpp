@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "agents/test_agent.hpp"
-#include "occlusion_env/agents/core_agents.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/agents/episode.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -20,10 +20,11 @@
 namespace occlusion_env {
 namespace testing_support {
 
-// The agents the test nodes can run: the core's and the test-only one (test_agent_node).
+// The agents the test nodes can run: every agent (occlusion_agent) and the test-only one
+// (test_agent_node).
 inline const AgentRegistry& testRegistry() {
   static const AgentRegistry registry = [] {
-    AgentRegistry agents = coreAgents();
+    AgentRegistry agents = learning::learningAgents();
     agents.add(circlingAgentEntry());
     return agents;
   }();

@@ -6,10 +6,11 @@
 // plane (the environment's normalised actions; elevation clamped at its limit). So one step
 // reaches exactly the circle of radius h, and k >= 2 steps reach every pose within k h: a target
 // at distance d needs max(2, ceil(d / h)) steps (the last two steps bend to land on it exactly).
-// The oracle searches the unoccluded poses on a lattice of spacing s (default h / 2) anchored at
-// the first pose it is asked about, nearest first, and the circle of radius h at 64 directions;
-// the lattice's occlusion figures are cached for the scene. doc/ORACLE.md says how the spacing
-// was checked against a finer lattice.
+// The oracle searches the unoccluded poses on a lattice of spacing s anchored at the first pose
+// it is asked about, nearest first, and the circle of radius h at 64 directions; the lattice's
+// occlusion figures are cached for the scene. A lattice can miss an unoccluded region thinner
+// than its spacing, so the answer is an upper bound of the true fewest steps: the training labels
+// use s = h / 2, the `oracle` agent of the tables s = h / 4 (doc/ORACLE.md measures both).
 #pragma once
 
 #include <cstdint>

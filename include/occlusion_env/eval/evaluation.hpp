@@ -21,6 +21,7 @@ struct EvaluationPlan {
   std::vector<std::string> agents;         // empty: the registry's competitors
   int max_steps = 50;                      // per episode; the environment truncates there too
   EnvironmentOptions environment;          // the scene set's choices are applied on top
+  std::string model_path;  // for agents that need a model; "" = each one's shipped model
 
   int episodes(const AgentRegistry& registry) const;
 };

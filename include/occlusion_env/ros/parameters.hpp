@@ -54,6 +54,7 @@ struct SimulatorOptions {
   std::string optical_frame;     // camera optical frame (z forward); the images' frame_id
   double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
   std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
+  bool offer_gradient = true;    // false: no get_occlusion_gradient, as a real camera
 };
 
 /// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their

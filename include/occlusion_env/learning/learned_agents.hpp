@@ -1,0 +1,43 @@
+// Agents that see only the RGB-D image and move where the multi-task network says: the paper's
+// predicted-gradient agent (Pred. Grad) and ours, the predicted-escape agent (the direction of
+// the oracle's first step, which does not lead into the local minima that trap the gradient).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/network_input.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+enum class DirectionHead { kGradient, kEscape };
+
+/// Moves one unit step along the direction the network's `head` predicts for the current image.
+/// Inference allocates nothing once the first observation has sized its buffers.
+class NetworkDirectionAgent : public Agent {
+ public:
+  NetworkDirectionAgent(std::shared_ptr<LoadedModel> model, DirectionHead head);
+  void reset(std::uint64_t seed) override;
+  Action act(const Observation& observation, const StepInfo& info) override;
+
+ private:
+  std::shared_ptr<LoadedModel> model_;
+  DirectionHead head_;
+  InputScratch scratch_;
+  torch::Tensor input_;
+};
+
+/// The shipped model the learned agents use by default (models/, README "Learned agents").
+std::string defaultModelPath();
+
+AgentEntry predictedGradientAgentEntry();
+AgentEntry predictedEscapeAgentEntry();
+
+/// The core's agents and the learned ones: what the evaluation and the agent node offer.
+AgentRegistry learningAgents();
+
+}  // namespace learning
+}  // namespace occlusion_env

@@ -1,0 +1,83 @@
+// The multi-task network of Section 5.1 of the paper (Table 3): a U-Net that predicts the
+// occlusion map, with dense heads on its pooled bottleneck for the direction in which occlusion
+// falls (the gradient label) and the direction of escape (the oracle's first step).
+//
+// Encoder: a 3x3 stem to `base` channels, then `levels` stages of channels base * 2^i, each two
+// conv units (conv -> ReLU -> BatchNorm) followed by a strided 3x3 conv that halves the size and
+// doubles the channels (so the bottleneck has base * 2^levels channels at 1 / 2^levels size).
+// Decoder: per level a stride-2 transposed conv, the skip of the same level added, two conv
+// units (the units run on the upsampled features: the original code's transposed-conv block
+// upsampled its input and left its convs unused). A 1x1 conv gives the occlusion logits.
+// Heads: global average pooling of the bottleneck, then Linear -> ReLU -> Linear to (sin, cos).
+//
+// Variants (Table 3): unet; r_unet (the two conv units of a stage are residual); sr_unet
+// (residual, each 3x3 conv factorised as 3x1 -> 1x3 -> 1x1); sar_unet (sr_unet with dilation 2 in
+// the factorised convs). The -L1 variant is a loss choice (TrainingOptions), not an architecture.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace occlusion_env {
+namespace learning {
+
+struct NetworkConfig {
+  std::string variant = "unet";  // unet | r_unet | sr_unet | sar_unet
+  int base_channels = 8;
+  int levels = 5;
+  int input_size = 64;  // [px], a multiple of 2^levels
+
+  bool residual() const { return variant != "unet"; }
+  bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
+  int dilation() const { return variant == "sar_unet" ? 2 : 1; }
+  int bottleneckChannels() const { return base_channels << levels; }
+
+  /// Throws InvalidArgumentError naming the bad field.
+  void validate() const;
+  nlohmann::json toJson() const;
+  static NetworkConfig fromJson(const nlohmann::json& json);
+};
+
+struct NetworkOutput {
+  torch::Tensor occlusion_logits;    // [B, 1, S, S]
+  torch::Tensor gradient_direction;  // [B, 2]: (sin, cos) of the descent direction, unnormalised
+  torch::Tensor escape_direction;    // [B, 2]: (sin, cos) of the escape direction, unnormalised
+  torch::Tensor features;            // [B, C]: the pooled bottleneck (for policies)
+};
+
+// Two conv units of one width (conv -> ReLU -> BatchNorm), residual when the config says so.
+class ConvUnitsImpl : public torch::nn::Module {
+ public:
+  ConvUnitsImpl(int channels, const NetworkConfig& config);
+  torch::Tensor forward(torch::Tensor x);
+
+ private:
+  torch::nn::Sequential units_{nullptr};
+  bool residual_ = false;
+};
+TORCH_MODULE(ConvUnits);
+
+class MultiTaskUNetImpl : public torch::nn::Module {
+ public:
+  explicit MultiTaskUNetImpl(const NetworkConfig& config);
+  /// `input`: [B, 4, S, S] (learning/network_input.hpp).
+  NetworkOutput forward(torch::Tensor input);
+  /// The pooled bottleneck only (the encoder), [B, C].
+  torch::Tensor encode(torch::Tensor input);
+  const NetworkConfig& config() const { return config_; }
+
+ private:
+  torch::Tensor encoderFeatures(torch::Tensor input, std::vector<torch::Tensor>* skips);
+
+  NetworkConfig config_;
+  torch::nn::Conv2d stem_{nullptr};
+  torch::nn::ModuleList encoder_units_, downsamplers_, upsamplers_, decoder_units_;
+  torch::nn::Conv2d occlusion_head_{nullptr};
+  torch::nn::Sequential gradient_head_{nullptr}, escape_head_{nullptr};
+};
+TORCH_MODULE(MultiTaskUNet);
+
+}  // namespace learning
+}  // namespace occlusion_env

@@ -1,0 +1,98 @@
+// Training the multi-task network (Section 5.2, Eq. 10-12) on a BOP dataset written by
+// occlusion_dataset: data in memory as tensors, AdamW with a cosine schedule, soft Dice on the
+// occlusion map plus a direction loss on the gradient and escape labels, colour jitter and
+// horizontal flips with the label transform, validation every epoch, a checkpoint every epoch
+// (resumable), the best model by validation IoU.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/learning/multitask_unet.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+/// The frames of a dataset at the network's resolution.
+struct Samples {
+  torch::Tensor inputs;          // [N, 4, S, S] (network_input.hpp)
+  torch::Tensor masks;           // [N, 1, S, S] 0 / 1
+  torch::Tensor gradient;        // [N, 2] (sin, cos) of the descent direction
+  torch::Tensor gradient_valid;  // [N] 0 / 1
+  torch::Tensor escape;          // [N, 2] (sin, cos) of the oracle's first step
+  torch::Tensor escape_valid;    // [N] 0 / 1
+  int64_t size() const { return inputs.defined() ? inputs.size(0) : 0; }
+};
+
+struct TrainingData {
+  Samples train, validation;
+  nlohmann::json dataset_manifest;
+  std::string dataset_dir;
+};
+
+/// Reads every complete scene of the dataset in `dir` at `size` px, split by the manifest's
+/// scene-wise train/val split; `max_scenes` > 0 keeps only the first ones. Refuses datasets with
+/// test seeds or models outside the train split (InvalidArgumentError).
+TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes = 0);
+
+struct TrainingOptions {
+  NetworkConfig network;
+  int epochs = 15;
+  int batch_size = 32;
+  double learning_rate = 1e-3;  // AdamW, cosine-annealed to 0 over all epochs (per batch)
+  double weight_decay = 1e-5;
+  double dice_weight = 1.0;            // beta_1 (Eq. 12)
+  double direction_weight = 1.0;       // beta_2, for each of the two direction heads
+  std::string direction_loss = "mse";  // mse | smooth_l1 (beta 0.01: the paper's -L1 variant)
+  bool augment = true;                 // colour jitter and horizontal flips
+  std::uint64_t seed = 1;
+  int threads = 0;  // libtorch threads; 0 = the machine's cores
+
+  void validate() const;
+  nlohmann::json toJson() const;
+};
+
+struct EpochMetrics {
+  int epoch = 0;  // 1-based
+  double learning_rate = 0.0;
+  double train_loss = 0.0;
+  double val_dice_loss = 0.0;
+  double val_pixel_accuracy = 0.0;  // [0, 1]
+  double val_iou = 0.0;             // of the occlusion map, over all validation pixels
+  double val_gradient_mse = 0.0;    // ||prediction - (sin, cos)||^2, as Eq. 11
+  double val_escape_mse = 0.0;
+  double val_gradient_angle_deg = 0.0;  // mean angular error of the normalised prediction
+  double val_escape_angle_deg = 0.0;
+  double seconds = 0.0;
+  double images_per_second = 0.0;  // training throughput
+
+  nlohmann::json toJson() const;
+};
+
+/// Validation figures of `network` on `samples` (eval mode, no gradients).
+EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
+                      const std::string& direction_loss);
+
+struct TrainingCallbacks {
+  std::function<void(int epoch, int batch, int batches)> on_batch;
+  std::function<void(const EpochMetrics&)> on_epoch;
+};
+
+/// Trains in `run_dir`: checkpoint.pt after every epoch (and resumes from it when present and
+/// made with the same options and data), log.csv, best.pt/best.json (by validation IoU). Returns
+/// the metrics of every epoch (resumed ones included, from the log).
+std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
+                                const std::string& run_dir,
+                                const TrainingCallbacks& callbacks = {});
+
+/// The BLAS library libtorch's process has mapped (its real path), "" if none is found; and
+/// whether it is the slow reference BLAS (Debian's default libblas.so.3).
+std::string loadedBlasLibrary();
+bool referenceBlasLoaded();
+
+}  // namespace learning
+}  // namespace occlusion_env

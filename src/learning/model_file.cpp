@@ -1,0 +1,76 @@
+#include "occlusion_env/learning/model_file.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <vector>
+
+#include "occlusion_env/common/errors.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+std::string manifestPathFor(const std::string& model_path) {
+  std::filesystem::path path(model_path);
+  return path.replace_extension(".json").string();
+}
+
+void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::json& info) {
+  torch::save(network, path);
+  nlohmann::json manifest = info;
+  manifest["network"] = network->config().toJson();
+  manifest["file"] = std::filesystem::path(path).filename().string();
+  std::ofstream out(manifestPathFor(path));
+  out << manifest.dump(2) << '\n';
+  if (!out) throw std::runtime_error("cannot write " + manifestPathFor(path));
+}
+
+LoadedModel loadModel(const std::string& path) {
+  if (path.empty()) throw InvalidArgumentError("model: no file given");
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InvalidArgumentError("model file " + path + " does not exist");
+  }
+  const std::string manifest_path = manifestPathFor(path);
+  std::ifstream in(manifest_path);
+  if (!in) {
+    throw InvalidArgumentError("model " + path + ": its manifest " + manifest_path +
+                               " is missing (a model is the .pt and the .json beside it)");
+  }
+  LoadedModel model;
+  NetworkConfig config;
+  try {
+    model.manifest = nlohmann::json::parse(in);
+    config = NetworkConfig::fromJson(model.manifest.at("network"));
+  } catch (const std::exception& error) {
+    throw InvalidArgumentError("model " + path + ": unreadable manifest " + manifest_path + ": " +
+                               error.what());
+  }
+  model.network = MultiTaskUNet(config);
+  // torch::load replaces each tensor with the stored one whatever its shape: compare the shapes
+  // with those the manifest's network has.
+  std::map<std::string, std::vector<int64_t>> expected;
+  for (const auto& item : model.network->named_parameters())
+    expected[item.key()] = item.value().sizes().vec();
+  for (const auto& item : model.network->named_buffers())
+    expected[item.key()] = item.value().sizes().vec();
+  try {
+    torch::load(model.network, path);
+    for (const auto& item : model.network->named_parameters()) {
+      if (item.value().sizes().vec() != expected.at(item.key())) {
+        throw InvalidArgumentError("model " + path + " does not match its manifest's network (" +
+                                   config.toJson().dump() + "): " + item.key() + " has shape " +
+                                   c10::str(item.value().sizes()));
+      }
+    }
+  } catch (const c10::Error& error) {
+    const std::string what = error.what_without_backtrace();
+    throw InvalidArgumentError("model " + path +
+                               " is corrupt or does not match its manifest's network (" +
+                               config.toJson().dump() + "): " + what.substr(0, 300));
+  }
+  model.network->eval();
+  return model;
+}
+
+}  // namespace learning
+}  // namespace occlusion_env

@@ -1,0 +1,135 @@
+#include "occlusion_env/learning/multitask_unet.hpp"
+
+#include "occlusion_env/common/errors.hpp"
+
+namespace occlusion_env {
+namespace learning {
+namespace {
+
+namespace nn = torch::nn;
+
+// Appends one conv unit to `unit`: conv (3x3, or 3x1 -> 1x3 -> 1x1 when separable) -> ReLU ->
+// BatchNorm.
+void appendConvUnit(nn::Sequential& unit, int in, int out, const NetworkConfig& config) {
+  const int d = config.dilation();
+  if (config.separable()) {
+    unit->push_back(
+        nn::Conv2d(nn::Conv2dOptions(in, out, {3, 1}).padding({d, 0}).dilation({d, 1})));
+    unit->push_back(
+        nn::Conv2d(nn::Conv2dOptions(out, out, {1, 3}).padding({0, d}).dilation({1, d})));
+    unit->push_back(nn::Conv2d(nn::Conv2dOptions(out, out, 1)));
+  } else {
+    unit->push_back(nn::Conv2d(nn::Conv2dOptions(in, out, 3).padding(d).dilation(d)));
+  }
+  unit->push_back(nn::ReLU(nn::ReLUOptions(true)));
+  unit->push_back(nn::BatchNorm2d(out));
+}
+
+nn::Sequential directionHead(int features) {
+  return nn::Sequential(nn::Linear(features, 64), nn::ReLU(nn::ReLUOptions(true)),
+                        nn::Linear(64, 2));
+}
+
+}  // namespace
+
+void NetworkConfig::validate() const {
+  if (variant != "unet" && variant != "r_unet" && variant != "sr_unet" && variant != "sar_unet") {
+    throw InvalidArgumentError("network variant must be unet, r_unet, sr_unet or sar_unet, got " +
+                               quoted(variant));
+  }
+  if (base_channels < 1 || base_channels > 64)
+    throw InvalidArgumentError("base_channels must be in [1, 64]");
+  if (levels < 1 || levels > 6) throw InvalidArgumentError("levels must be in [1, 6]");
+  if (input_size < 16 || input_size > 512 || input_size % (1 << levels) != 0) {
+    throw InvalidArgumentError("input_size must be in [16, 512] and a multiple of 2^levels = " +
+                               std::to_string(1 << levels));
+  }
+}
+
+nlohmann::json NetworkConfig::toJson() const {
+  return {{"variant", variant},
+          {"base_channels", base_channels},
+          {"levels", levels},
+          {"input_size", input_size}};
+}
+
+NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
+  NetworkConfig config;
+  config.variant = json.at("variant").get<std::string>();
+  config.base_channels = json.at("base_channels").get<int>();
+  config.levels = json.at("levels").get<int>();
+  config.input_size = json.at("input_size").get<int>();
+  config.validate();
+  return config;
+}
+
+ConvUnitsImpl::ConvUnitsImpl(int channels, const NetworkConfig& config)
+    : residual_(config.residual()) {
+  nn::Sequential units;
+  appendConvUnit(units, channels, channels, config);
+  appendConvUnit(units, channels, channels, config);
+  units_ = register_module("units", units);
+}
+
+torch::Tensor ConvUnitsImpl::forward(torch::Tensor x) {
+  return residual_ ? x + units_->forward(x) : units_->forward(x);
+}
+
+MultiTaskUNetImpl::MultiTaskUNetImpl(const NetworkConfig& config) : config_(config) {
+  config_.validate();
+  const int base = config_.base_channels;
+  stem_ = register_module("stem", nn::Conv2d(nn::Conv2dOptions(4, base, 3).padding(1)));
+  for (int level = 0; level < config_.levels; ++level) {
+    const int channels = base << level;
+    encoder_units_->push_back(ConvUnits(channels, config_));
+    downsamplers_->push_back(
+        nn::Conv2d(nn::Conv2dOptions(channels, 2 * channels, 3).stride(2).padding(1)));
+  }
+  for (int level = config_.levels - 1; level >= 0; --level) {
+    const int channels = base << level;
+    upsamplers_->push_back(
+        nn::ConvTranspose2d(nn::ConvTranspose2dOptions(2 * channels, channels, 2).stride(2)));
+    decoder_units_->push_back(ConvUnits(channels, config_));
+  }
+  register_module("encoder_units", encoder_units_);
+  register_module("downsamplers", downsamplers_);
+  register_module("upsamplers", upsamplers_);
+  register_module("decoder_units", decoder_units_);
+  occlusion_head_ = register_module("occlusion_head", nn::Conv2d(nn::Conv2dOptions(base, 1, 1)));
+  gradient_head_ = register_module("gradient_head", directionHead(config_.bottleneckChannels()));
+  escape_head_ = register_module("escape_head", directionHead(config_.bottleneckChannels()));
+}
+
+torch::Tensor MultiTaskUNetImpl::encoderFeatures(torch::Tensor input,
+                                                 std::vector<torch::Tensor>* skips) {
+  torch::Tensor x = torch::relu(stem_->forward(input));
+  for (int level = 0; level < config_.levels; ++level) {
+    x = encoder_units_[level]->as<ConvUnitsImpl>()->forward(x);
+    if (skips) skips->push_back(x);
+    x = torch::relu(downsamplers_[level]->as<nn::Conv2dImpl>()->forward(x));
+  }
+  return x;
+}
+
+torch::Tensor MultiTaskUNetImpl::encode(torch::Tensor input) {
+  return torch::adaptive_avg_pool2d(encoderFeatures(input, nullptr), {1, 1}).flatten(1);
+}
+
+NetworkOutput MultiTaskUNetImpl::forward(torch::Tensor input) {
+  std::vector<torch::Tensor> skips;
+  torch::Tensor x = encoderFeatures(input, &skips);
+  NetworkOutput out;
+  out.features = torch::adaptive_avg_pool2d(x, {1, 1}).flatten(1);
+  for (int i = 0; i < config_.levels; ++i) {
+    const int level = config_.levels - 1 - i;
+    x = upsamplers_[i]->as<nn::ConvTranspose2dImpl>()->forward(x) + skips[level];
+    x = decoder_units_[i]->as<ConvUnitsImpl>()->forward(x);
+  }
+  out.occlusion_logits = occlusion_head_->forward(x);
+  out.gradient_direction = gradient_head_->forward(out.features);
+  out.escape_direction = escape_head_->forward(out.features);
+  return out;
+}
+
+}  // namespace learning
+}  // namespace occlusion_env

@@ -1,0 +1,428 @@
+#include "occlusion_env/learning/training.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/dataset/bop_dataset.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/network_input.hpp"
+
+namespace occlusion_env {
+namespace learning {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kSmoothL1Beta = 0.01;
+
+void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
+                 int size, Samples& samples) {
+  const int64_t n = static_cast<int64_t>(frames.size());
+  samples.inputs = torch::empty({n, 4, size, size});
+  samples.masks = torch::empty({n, 1, size, size});
+  samples.gradient = torch::zeros({n, 2});
+  samples.gradient_valid = torch::zeros({n});
+  samples.escape = torch::zeros({n, 2});
+  samples.escape_valid = torch::zeros({n});
+  InputScratch scratch;
+  cv::Mat mask_small;
+  for (int64_t i = 0; i < n; ++i) {
+    const dataset::Frame& frame = *frames[i];
+    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), size, scratch,
+                      samples.inputs[i].data_ptr<float>());
+    const cv::Mat mask = data.readOcclusionMask(frame);
+    cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
+    float* mask_out = samples.masks[i].data_ptr<float>();
+    for (int row = 0; row < size; ++row) {
+      for (int col = 0; col < size; ++col) {
+        mask_out[row * size + col] = mask_small.at<std::uint8_t>(row, col) >= 128 ? 1.0f : 0.0f;
+      }
+    }
+    const dataset::FrameLabels& labels = frame.labels;
+    if (labels.descent) {
+      samples.gradient[i][0] = labels.descent->sin;
+      samples.gradient[i][1] = labels.descent->cos;
+      samples.gradient_valid[i] = 1.0;
+    }
+    if (labels.escape) {
+      samples.escape[i][0] = labels.escape->sin;
+      samples.escape[i][1] = labels.escape->cos;
+      samples.escape_valid[i] = 1.0;
+    }
+  }
+}
+
+torch::Tensor maskedMean(const torch::Tensor& values, const torch::Tensor& valid) {
+  return (values * valid).sum() / valid.sum().clamp_min(1.0);
+}
+
+// Per-sample direction loss: ||p - t||^2 (Eq. 11) or SmoothL1 with beta 0.01 summed over (sin,
+// cos).
+torch::Tensor directionLoss(const torch::Tensor& prediction, const torch::Tensor& target,
+                            const std::string& kind) {
+  if (kind == "smooth_l1") {
+    return torch::nn::functional::smooth_l1_loss(prediction, target,
+                                                 torch::nn::functional::SmoothL1LossFuncOptions()
+                                                     .reduction(torch::kNone)
+                                                     .beta(kSmoothL1Beta))
+        .sum(1);
+  }
+  return (prediction - target).pow(2).sum(1);
+}
+
+torch::Tensor softDiceLoss(const torch::Tensor& logits, const torch::Tensor& masks) {
+  const torch::Tensor p = torch::sigmoid(logits);
+  const torch::Tensor intersection = (p * masks).sum({1, 2, 3});
+  const torch::Tensor denominator = (p * p).sum({1, 2, 3}) + (masks * masks).sum({1, 2, 3});
+  return (1.0 - (2.0 * intersection + 1.0) / (denominator + 1.0)).mean();
+}
+
+// Mean angle [deg] between the normalised prediction and the target, over valid samples.
+torch::Tensor angleErrors(const torch::Tensor& prediction, const torch::Tensor& target) {
+  const torch::Tensor unit = prediction / prediction.norm(2, 1, true).clamp_min(1e-9);
+  return torch::acos((unit * target).sum(1).clamp(-1.0, 1.0)) * (180.0 / M_PI);
+}
+
+struct Batch {
+  torch::Tensor inputs, masks, gradient, gradient_valid, escape, escape_valid;
+};
+
+Batch batchOf(const Samples& samples, const torch::Tensor& indices) {
+  return {
+      samples.inputs.index_select(0, indices),   samples.masks.index_select(0, indices),
+      samples.gradient.index_select(0, indices), samples.gradient_valid.index_select(0, indices),
+      samples.escape.index_select(0, indices),   samples.escape_valid.index_select(0, indices)};
+}
+
+// Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels) and horizontal flips with
+// the label transform (sin, cos) -> (sin, -cos) (dataset/labels.hpp), in place.
+void augment(Batch& batch) {
+  const int64_t n = batch.inputs.size(0);
+  torch::Tensor rgb = batch.inputs.slice(1, 0, 3) * 0.25 + 0.5;
+  const torch::Tensor brightness = torch::empty({n, 1, 1, 1}).uniform_(0.8, 1.2);
+  const torch::Tensor contrast = torch::empty({n, 1, 1, 1}).uniform_(0.8, 1.2);
+  rgb = rgb * brightness;
+  const torch::Tensor mean = rgb.mean({1, 2, 3}, true);
+  rgb = ((rgb - mean) * contrast + mean).clamp(0.0, 1.0);
+  batch.inputs = torch::cat({(rgb - 0.5) / 0.25, batch.inputs.slice(1, 3, 4)}, 1);
+
+  const torch::Tensor flip = torch::rand({n}) < 0.5;
+  const torch::Tensor image_flip = flip.view({n, 1, 1, 1});
+  batch.inputs = torch::where(image_flip, batch.inputs.flip({3}), batch.inputs);
+  batch.masks = torch::where(image_flip, batch.masks.flip({3}), batch.masks);
+  const torch::Tensor sign = torch::where(flip, torch::full({n}, -1.0), torch::full({n}, 1.0));
+  for (torch::Tensor* label : {&batch.gradient, &batch.escape}) {
+    *label = torch::stack({label->select(1, 0), label->select(1, 1) * sign}, 1);
+  }
+}
+
+void setLearningRate(torch::optim::AdamW& optimizer, double rate) {
+  for (auto& group : optimizer.param_groups()) {
+    static_cast<torch::optim::AdamWOptions&>(group.options()).lr(rate);
+  }
+}
+
+void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) {
+  std::ofstream out(path);
+  out << "epoch,learning_rate,train_loss,val_dice_loss,val_pixel_accuracy,val_iou,"
+         "val_gradient_mse,val_escape_mse,val_gradient_angle_deg,val_escape_angle_deg,seconds,"
+         "images_per_second\n";
+  for (const EpochMetrics& m : epochs) {
+    out << m.epoch << ',' << m.learning_rate << ',' << m.train_loss << ',' << m.val_dice_loss << ','
+        << m.val_pixel_accuracy << ',' << m.val_iou << ',' << m.val_gradient_mse << ','
+        << m.val_escape_mse << ',' << m.val_gradient_angle_deg << ',' << m.val_escape_angle_deg
+        << ',' << m.seconds << ',' << m.images_per_second << '\n';
+  }
+}
+
+EpochMetrics metricsFromJson(const nlohmann::json& j) {
+  EpochMetrics m;
+  m.epoch = j.at("epoch");
+  m.learning_rate = j.at("learning_rate");
+  m.train_loss = j.at("train_loss");
+  m.val_dice_loss = j.at("val_dice_loss");
+  m.val_pixel_accuracy = j.at("val_pixel_accuracy");
+  m.val_iou = j.at("val_iou");
+  m.val_gradient_mse = j.at("val_gradient_mse");
+  m.val_escape_mse = j.at("val_escape_mse");
+  m.val_gradient_angle_deg = j.at("val_gradient_angle_deg");
+  m.val_escape_angle_deg = j.at("val_escape_angle_deg");
+  m.seconds = j.at("seconds");
+  m.images_per_second = j.at("images_per_second");
+  return m;
+}
+
+}  // namespace
+
+TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes) {
+  const dataset::BopDataset data(dir);
+  const nlohmann::json& options = data.manifest().at("options");
+  if (options.value("model_split", "") != "train") {
+    throw InvalidArgumentError("dataset " + dir +
+                               " was not made from the train split of the models: "
+                               "training on test-split models is refused");
+  }
+  for (const nlohmann::json& scene : data.manifest().at("scenes")) {
+    if (scene.at("seed").get<std::uint64_t>() >= kFirstTestSeed) {
+      throw InvalidArgumentError("dataset " + dir + " holds test seeds (>= " +
+                                 std::to_string(kFirstTestSeed) + "): refused for training");
+    }
+  }
+  std::vector<const dataset::Frame*> train, validation;
+  for (const dataset::Frame& frame : data.frames()) {
+    if (max_scenes > 0 && frame.scene_index >= max_scenes) continue;
+    (frame.validation ? validation : train).push_back(&frame);
+  }
+  if (train.empty() || validation.empty()) {
+    throw InvalidArgumentError("dataset " + dir + " has no training or no validation frames");
+  }
+  TrainingData out;
+  out.dataset_manifest = data.manifest();
+  out.dataset_dir = dir;
+  fillSamples(data, train, size, out.train);
+  fillSamples(data, validation, size, out.validation);
+  return out;
+}
+
+void TrainingOptions::validate() const {
+  network.validate();
+  if (epochs < 1) throw InvalidArgumentError("epochs must be >= 1");
+  if (batch_size < 2) throw InvalidArgumentError("batch_size must be >= 2 (BatchNorm)");
+  if (!(learning_rate > 0.0)) throw InvalidArgumentError("learning_rate must be > 0");
+  if (!(weight_decay >= 0.0)) throw InvalidArgumentError("weight_decay must be >= 0");
+  if (direction_loss != "mse" && direction_loss != "smooth_l1") {
+    throw InvalidArgumentError("direction_loss must be mse or smooth_l1");
+  }
+  if (threads < 0) throw InvalidArgumentError("threads must be >= 0");
+}
+
+nlohmann::json TrainingOptions::toJson() const {
+  return {{"network", network.toJson()},
+          {"epochs", epochs},
+          {"batch_size", batch_size},
+          {"learning_rate", learning_rate},
+          {"weight_decay", weight_decay},
+          {"dice_weight", dice_weight},
+          {"direction_weight", direction_weight},
+          {"direction_loss", direction_loss},
+          {"augment", augment},
+          {"seed", seed}};
+}
+
+nlohmann::json EpochMetrics::toJson() const {
+  return {{"epoch", epoch},
+          {"learning_rate", learning_rate},
+          {"train_loss", train_loss},
+          {"val_dice_loss", val_dice_loss},
+          {"val_pixel_accuracy", val_pixel_accuracy},
+          {"val_iou", val_iou},
+          {"val_gradient_mse", val_gradient_mse},
+          {"val_escape_mse", val_escape_mse},
+          {"val_gradient_angle_deg", val_gradient_angle_deg},
+          {"val_escape_angle_deg", val_escape_angle_deg},
+          {"seconds", seconds},
+          {"images_per_second", images_per_second}};
+}
+
+EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
+                      const std::string& direction_loss) {
+  torch::NoGradGuard no_grad;
+  const bool was_training = network->is_training();
+  network->eval();
+  double dice = 0.0, correct = 0.0, pixels = 0.0, intersection = 0.0, union_count = 0.0;
+  double gradient_loss = 0.0, escape_loss = 0.0, gradient_angle = 0.0, escape_angle = 0.0;
+  double gradient_count = 0.0, escape_count = 0.0;
+  const int64_t n = samples.size();
+  for (int64_t start = 0; start < n; start += batch_size) {
+    const torch::Tensor indices = torch::arange(start, std::min<int64_t>(n, start + batch_size));
+    const Batch batch = batchOf(samples, indices);
+    const NetworkOutput out = network->forward(batch.inputs);
+    const double count = static_cast<double>(indices.size(0));
+    dice += softDiceLoss(out.occlusion_logits, batch.masks).item<double>() * count;
+    const torch::Tensor predicted = (out.occlusion_logits > 0.0).to(torch::kFloat);
+    correct += (predicted == batch.masks).sum().item<double>();
+    pixels += static_cast<double>(batch.masks.numel());
+    intersection += (predicted * batch.masks).sum().item<double>();
+    union_count += ((predicted + batch.masks) > 0.0).sum().item<double>();
+    gradient_loss += (directionLoss(out.gradient_direction, batch.gradient, direction_loss) *
+                      batch.gradient_valid)
+                         .sum()
+                         .item<double>();
+    escape_loss +=
+        (directionLoss(out.escape_direction, batch.escape, direction_loss) * batch.escape_valid)
+            .sum()
+            .item<double>();
+    gradient_angle += (angleErrors(out.gradient_direction, batch.gradient) * batch.gradient_valid)
+                          .sum()
+                          .item<double>();
+    escape_angle +=
+        (angleErrors(out.escape_direction, batch.escape) * batch.escape_valid).sum().item<double>();
+    gradient_count += batch.gradient_valid.sum().item<double>();
+    escape_count += batch.escape_valid.sum().item<double>();
+  }
+  if (was_training) network->train();
+  EpochMetrics m;
+  m.val_dice_loss = dice / std::max<double>(1.0, n);
+  m.val_pixel_accuracy = correct / std::max(1.0, pixels);
+  m.val_iou = union_count > 0.0 ? intersection / union_count : 1.0;
+  m.val_gradient_mse = gradient_loss / std::max(1.0, gradient_count);
+  m.val_escape_mse = escape_loss / std::max(1.0, escape_count);
+  m.val_gradient_angle_deg = gradient_angle / std::max(1.0, gradient_count);
+  m.val_escape_angle_deg = escape_angle / std::max(1.0, escape_count);
+  return m;
+}
+
+std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
+                                const std::string& run_dir, const TrainingCallbacks& callbacks) {
+  options.validate();
+  if (data.train.size() < options.batch_size) {
+    throw InvalidArgumentError("fewer training frames than one batch");
+  }
+  const int expected_size = options.network.input_size;
+  if (data.train.inputs.size(2) != expected_size) {
+    throw InvalidArgumentError("the data is at " + std::to_string(data.train.inputs.size(2)) +
+                               " px, the network at " + std::to_string(expected_size));
+  }
+  torch::set_num_threads(options.threads > 0 ? options.threads
+                                             : std::max(1u, std::thread::hardware_concurrency()));
+  fs::create_directories(run_dir);
+  const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
+  const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
+  const nlohmann::json identity = {{"options", options.toJson()},
+                                   {"dataset", data.dataset_dir},
+                                   {"dataset_options", data.dataset_manifest.at("options")},
+                                   {"train_frames", data.train.size()},
+                                   {"validation_frames", data.validation.size()}};
+
+  torch::manual_seed(options.seed);
+  MultiTaskUNet network(options.network);
+  torch::optim::AdamW optimizer(
+      network->parameters(),
+      torch::optim::AdamWOptions(options.learning_rate).weight_decay(options.weight_decay));
+  std::vector<EpochMetrics> history;
+  double best_iou = -1.0;
+  int first_epoch = 1;
+  if (fs::exists(checkpoint_path) && fs::exists(state_path)) {
+    std::ifstream in(state_path);
+    const nlohmann::json state = nlohmann::json::parse(in);
+    if (state.at("identity") != identity) {
+      throw InvalidArgumentError("the checkpoint in " + run_dir +
+                                 " was made with other options or data; use another --out folder");
+    }
+    torch::serialize::InputArchive archive;
+    archive.load_from(checkpoint_path.string());
+    torch::serialize::InputArchive model_archive, optimizer_archive;
+    archive.read("model", model_archive);
+    archive.read("optimizer", optimizer_archive);
+    network->load(model_archive);
+    optimizer.load(optimizer_archive);
+    for (const nlohmann::json& epoch : state.at("history"))
+      history.push_back(metricsFromJson(epoch));
+    best_iou = state.at("best_iou").get<double>();
+    first_epoch = static_cast<int>(history.size()) + 1;
+  }
+
+  const int64_t n = data.train.size();
+  const int batches =
+      static_cast<int>(n / options.batch_size);  // the last partial batch is dropped
+  const double total_batches = static_cast<double>(batches) * options.epochs;
+  for (int epoch = first_epoch; epoch <= options.epochs; ++epoch) {
+    const auto start = std::chrono::steady_clock::now();
+    torch::manual_seed(options.seed * 1000003ull + static_cast<std::uint64_t>(epoch));
+    const torch::Tensor order = torch::randperm(n, torch::kLong);
+    network->train();
+    double loss_sum = 0.0;
+    double rate = options.learning_rate;
+    for (int b = 0; b < batches; ++b) {
+      const double progress = ((epoch - 1) * static_cast<double>(batches) + b) / total_batches;
+      rate = options.learning_rate * 0.5 * (1.0 + std::cos(M_PI * progress));
+      setLearningRate(optimizer, rate);
+      Batch batch =
+          batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
+      if (options.augment) augment(batch);
+      const NetworkOutput out = network->forward(batch.inputs);
+      const torch::Tensor loss =
+          options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
+          options.direction_weight *
+              (maskedMean(
+                   directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
+                   batch.gradient_valid) +
+               maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
+                          batch.escape_valid));
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      if (callbacks.on_batch) callbacks.on_batch(epoch, b + 1, batches);
+    }
+    const double train_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EpochMetrics metrics = evaluate(network, data.validation, 64, options.direction_loss);
+    metrics.epoch = epoch;
+    metrics.learning_rate = rate;
+    metrics.train_loss = loss_sum / std::max(1, batches);
+    metrics.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    metrics.images_per_second = batches * options.batch_size / train_seconds;
+    history.push_back(metrics);
+
+    if (metrics.val_iou > best_iou) {
+      best_iou = metrics.val_iou;
+      saveModel(network, (fs::path(run_dir) / "best.pt").string(),
+                {{"training", options.toJson()},
+                 {"dataset", data.dataset_dir},
+                 {"dataset_options", data.dataset_manifest.at("options")},
+                 {"epoch", epoch},
+                 {"validation", metrics.toJson()}});
+    }
+    // Checkpoint: written next to the old one, then renamed over it.
+    torch::serialize::OutputArchive archive, model_archive, optimizer_archive;
+    network->save(model_archive);
+    optimizer.save(optimizer_archive);
+    archive.write("model", model_archive);
+    archive.write("optimizer", optimizer_archive);
+    archive.save_to(checkpoint_path.string() + ".tmp");
+    fs::rename(checkpoint_path.string() + ".tmp", checkpoint_path);
+    nlohmann::json state = {
+        {"identity", identity}, {"best_iou", best_iou}, {"history", nlohmann::json::array()}};
+    for (const EpochMetrics& m : history) state["history"].push_back(m.toJson());
+    std::ofstream(state_path.string() + ".tmp") << state.dump(1);
+    fs::rename(state_path.string() + ".tmp", state_path);
+    writeLog((fs::path(run_dir) / "log.csv").string(), history);
+    if (callbacks.on_epoch) callbacks.on_epoch(metrics);
+  }
+  return history;
+}
+
+std::string loadedBlasLibrary() {
+  // A tiny matrix product makes sure the BLAS is loaded, then /proc/self/maps says which one.
+  (void)torch::mm(torch::ones({8, 8}), torch::ones({8, 8})).sum().item<float>();
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    const auto slash = line.find('/');
+    if (slash == std::string::npos) continue;
+    const std::string path = line.substr(slash);
+    if (path.find("libblas") != std::string::npos ||
+        path.find("libopenblas") != std::string::npos) {
+      std::error_code error;
+      const fs::path real = fs::canonical(path, error);
+      return error ? path : real.string();
+    }
+  }
+  return "";
+}
+
+bool referenceBlasLoaded() {
+  const std::string blas = loadedBlasLibrary();
+  return blas.find("openblas") == std::string::npos && blas.find("blis") == std::string::npos &&
+         blas.find("mkl") == std::string::npos && !blas.empty();
+}
+
+}  // namespace learning
+}  // namespace occlusion_env

@@ -1,0 +1,156 @@
+// The learning library: the BLAS libtorch gets, the network's shapes, a tiny training run whose
+// loss falls and that resumes, the model file's errors, and the learned agents' inference.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/dataset/generator.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/training.hpp"
+
+namespace occlusion_env {
+namespace learning {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temporaryDir(const std::string& name) {
+  const fs::path path = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(path);
+  return path;
+}
+
+TEST(LearningTest, LibtorchDoesNotRunOnTheReferenceBlas) {
+  const std::string blas = loadedBlasLibrary();
+  std::cout << "[learning] BLAS: " << (blas.empty() ? "(none mapped)" : blas) << "\n";
+  EXPECT_FALSE(referenceBlasLoaded())
+      << "libtorch's convolutions run on the reference BLAS " << blas
+      << " (5-8x slower): install libopenblas0-openmp (scripts/install_deps.sh)";
+}
+
+TEST(LearningTest, EveryVariantGivesTheShapesOfItsHeads) {
+  for (const std::string variant : {"unet", "r_unet", "sr_unet", "sar_unet"}) {
+    NetworkConfig config;
+    config.variant = variant;
+    config.input_size = 32;
+    MultiTaskUNet network(config);
+    const NetworkOutput out = network->forward(torch::randn({2, 4, 32, 32}));
+    EXPECT_EQ(out.occlusion_logits.sizes(), (std::vector<int64_t>{2, 1, 32, 32})) << variant;
+    EXPECT_EQ(out.gradient_direction.sizes(), (std::vector<int64_t>{2, 2})) << variant;
+    EXPECT_EQ(out.escape_direction.sizes(), (std::vector<int64_t>{2, 2})) << variant;
+    EXPECT_EQ(out.features.sizes(), (std::vector<int64_t>{2, 256})) << variant;
+  }
+  NetworkConfig bad;
+  bad.input_size = 48;  // not a multiple of 32
+  EXPECT_THROW(bad.validate(), InvalidArgumentError);
+  bad = {};
+  bad.variant = "transformer";
+  EXPECT_THROW(bad.validate(), InvalidArgumentError);
+}
+
+TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_data");
+  dataset::DatasetOptions data_options;
+  data_options.scenes = 4;
+  data_options.frames = 8;
+  data_options.size = 64;
+  data_options.validation_fraction = 0.25;
+  dataset::generateDataset(data_dir.string(), data_options);
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  EXPECT_EQ(data.train.size(), 24);
+  EXPECT_EQ(data.validation.size(), 8);
+
+  TrainingOptions options;
+  options.network.input_size = 32;
+  options.epochs = 6;
+  options.batch_size = 8;
+  options.learning_rate = 3e-3;
+  options.augment = false;
+  options.threads = 1;
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_run");
+  // Three epochs, then the same command for six: the second call resumes.
+  TrainingOptions first_half = options;
+  const std::vector<EpochMetrics> before = train(data, options, run_dir.string() + "_probe", {});
+  fs::remove_all(run_dir.string() + "_probe");
+  EXPECT_LT(before.back().train_loss, before.front().train_loss) << "the loss falls";
+
+  first_half.epochs = 6;
+  const auto history = train(data, first_half, run_dir.string(), {});
+  ASSERT_EQ(history.size(), 6u);
+  // Same seed, same machine, same thread count: the same run.
+  EXPECT_DOUBLE_EQ(history.back().train_loss, before.back().train_loss);
+  int epochs_seen = 0;
+  TrainingCallbacks count;
+  count.on_epoch = [&epochs_seen](const EpochMetrics&) { ++epochs_seen; };
+  const auto resumed = train(data, first_half, run_dir.string(), count);
+  EXPECT_EQ(epochs_seen, 0) << "a finished run resumes with nothing left to do";
+  EXPECT_EQ(resumed.size(), 6u);
+  TrainingOptions other = options;
+  other.learning_rate = 1e-4;
+  EXPECT_THROW(train(data, other, run_dir.string(), {}), InvalidArgumentError);
+  EXPECT_TRUE(fs::exists(run_dir / "log.csv"));
+
+  // The best model loads, and the learned agents act on an observation.
+  const std::string best = (run_dir / "best.pt").string();
+  LoadedModel model = loadModel(best);
+  EXPECT_EQ(model.network->config().input_size, 32);
+  EnvironmentOptions env_options;
+  env_options.width = env_options.height = 64;
+  Environment environment(env_options);
+  const StepResult start = environment.reset(1000000);
+  const AgentRegistry registry = learningAgents();
+  for (const std::string name : {"predicted_gradient", "predicted_escape"}) {
+    const auto agent = registry.make(name, {environment, best});
+    const Action action = agent->act(*start.observation, start.info);
+    EXPECT_NEAR(std::hypot(action.d_azimuth_rad, action.d_elevation_rad) > 0.0, 1.0, 0.0) << name;
+  }
+
+  // Missing, corrupt and mismatched files are refused, each with its reason.
+  const auto expectRefused = [](const std::string& path, const std::string& words) {
+    try {
+      loadModel(path);
+      ADD_FAILURE() << "loaded " << path;
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
+    }
+  };
+  expectRefused((run_dir / "no_such.pt").string(), "does not exist");
+  fs::copy_file(best, run_dir / "lonely.pt");
+  expectRefused((run_dir / "lonely.pt").string(), "manifest");
+  fs::copy_file(run_dir / "best.json", run_dir / "corrupt.json");
+  std::ofstream(run_dir / "corrupt.pt") << "not a model";
+  expectRefused((run_dir / "corrupt.pt").string(), "corrupt");
+  fs::copy_file(best, run_dir / "mismatch.pt");
+  {
+    std::ifstream in(run_dir / "best.json");
+    nlohmann::json manifest = nlohmann::json::parse(in);
+    manifest["network"]["base_channels"] = 16;
+    std::ofstream(run_dir / "mismatch.json") << manifest.dump();
+  }
+  expectRefused((run_dir / "mismatch.pt").string(), "does not match");
+  fs::remove_all(run_dir);
+  fs::remove_all(data_dir);
+}
+
+TEST(LearningTest, NetworkInputFollowsTheConvention) {
+  cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(255, 0, 128));
+  cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(4.0f));
+  depth.at<float>(0, 0) = std::nanf("");
+  InputScratch scratch;
+  std::vector<float> out(4 * 32 * 32);
+  writeNetworkInput(rgb, depth, 32, scratch, out.data());
+  EXPECT_FLOAT_EQ(out[0], 2.0f);                // red 1.0 -> (1 - 0.5) / 0.25
+  EXPECT_FLOAT_EQ(out[32 * 32], -2.0f);         // green 0
+  EXPECT_FLOAT_EQ(out[3 * 32 * 32 + 5], 0.0f);  // 4 m of 8 m -> 0.5 -> 0
+  EXPECT_GT(out[3 * 32 * 32], 0.0f);            // the NaN (far) pixel pulls its area up
+  EXPECT_THROW(writeNetworkInput(rgb, cv::Mat(64, 64, CV_8UC1), 32, scratch, out.data()),
+               InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace learning
+}  // namespace occlusion_env
