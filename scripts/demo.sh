@@ -4,7 +4,8 @@
 #  2. roslaunch runs the simulator node with the gradient agent node (demo.launch) on the same
 #     seeds: the agent resets each scene through /occlusion/reset, steps along the negative
 #     occlusion gradient (/occlusion/get_occlusion_gradient) through /occlusion/step until no
-#     object hides another, and prints each episode. roslaunch ends with the agent.
+#     object hides another, and prints each episode; then the same with the learned
+#     predicted-escape agent, which sees only the RGB-D image. roslaunch ends with the agent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -18,22 +19,26 @@ for seed in 1 2 3; do
 done
 echo "Open $out/seed_1/occlusion.png to see the occluded pixels (red) and each object's outline."
 
-echo "== the gradient agent on the same scenes (roslaunch occlusion_env demo.launch) =="
 # A private master on its own port, so that a roscore already running is left alone.
 export ROS_MASTER_URI=http://localhost:${DEMO_ROS_PORT:-11411}
 mkdir -p "$out"
 out_abs=$(cd "$out" && pwd)
 export ROS_LOG_DIR=${ROS_LOG_DIR:-$out_abs/ros_log}
-log=$out/demo_launch.log
-csv=$out_abs/gradient_episodes.csv
-roslaunch -p "${DEMO_ROS_PORT:-11411}" --screen occlusion_env demo.launch episodes:=3 seed:=1 \
-  csv:="$csv" > "$log" 2>&1 || true
-# The agent's report; the whole launch output stays in $log.
-if ! grep -q "gradient agent done" "$log"; then
-  echo "demo: the gradient agent did not finish; see $log" >&2
-  tail -20 "$log" >&2
-  exit 1
-fi
-grep -E "episode [0-9]+/[0-9]+ seed|agent done" "$log" | sed -E 's/^.*\]: //; s/\x1b\[[0-9;]*m//g'
-echo "Episodes (steps, success, final occlusion, camera path): $csv"
-echo "Full launch output: $log"
+# The simulator's gradient agent, then the learned agent that sees only the RGB-D image (the
+# shipped model, models/multitask_unet64.pt), on the same scenes.
+for agent in gradient predicted_escape; do
+  echo "== the $agent agent on the same scenes (roslaunch occlusion_env demo.launch agent:=$agent) =="
+  log=$out/demo_${agent}_launch.log
+  csv=$out_abs/${agent}_episodes.csv
+  roslaunch -p "${DEMO_ROS_PORT:-11411}" --screen occlusion_env demo.launch agent:="$agent" \
+    episodes:=3 seed:=1 csv:="$csv" > "$log" 2>&1 || true
+  # The agent's report; the whole launch output stays in $log.
+  if ! grep -q "$agent agent done" "$log"; then
+    echo "demo: the $agent agent did not finish; see $log" >&2
+    tail -20 "$log" >&2
+    exit 1
+  fi
+  grep -E "episode [0-9]+/[0-9]+ seed|agent done" "$log" | sed -E 's/^.*\]: //; s/\x1b\[[0-9;]*m//g'
+  echo "Episodes (steps, success, final occlusion, camera path): $csv"
+  echo "Full launch output: $log"
+done
