@@ -83,6 +83,21 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   ASSERT_EQ(history.size(), 6u);
   // Same seed, same machine, same thread count: the same run.
   EXPECT_DOUBLE_EQ(history.back().train_loss, before.back().train_loss);
+  // An interrupted run (here: stopped after its third epoch) resumes where its checkpoint is and
+  // ends where an uninterrupted run ends.
+  const fs::path interrupted_dir = temporaryDir("occlusion_env_learning_interrupted");
+  TrainingCallbacks interrupt;
+  interrupt.on_epoch = [](const EpochMetrics& m) {
+    if (m.epoch == 3) throw std::runtime_error("interrupted");
+  };
+  EXPECT_THROW(train(data, options, interrupted_dir.string(), interrupt), std::runtime_error);
+  const auto continued = train(data, options, interrupted_dir.string(), {});
+  ASSERT_EQ(continued.size(), 6u);
+  EXPECT_NEAR(continued.back().train_loss, history.back().train_loss,
+              1e-6 * std::abs(history.back().train_loss))
+      << "the resumed run ends as the uninterrupted one";
+  fs::remove_all(interrupted_dir);
+
   int epochs_seen = 0;
   TrainingCallbacks count;
   count.on_epoch = [&epochs_seen](const EpochMetrics&) { ++epochs_seen; };
