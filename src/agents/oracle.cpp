@@ -31,11 +31,7 @@ std::vector<Action> pathTo(const Eigen::Vector2d& offset, int steps, double h, d
                            double elevation_high) {
   const double distance = offset.norm();
   const double heading = std::atan2(offset.y(), offset.x());
-  std::vector<Action> path;
-  if (steps == 1) {
-    path.push_back(move(heading, h));
-    return path;
-  }
+  std::vector<Action> path;  // steps >= 2: one step is the circle's case
   for (int i = 0; i < steps - 2; ++i) path.push_back(move(heading, h));
   const double remaining = distance - (steps - 2) * h;  // in (0, 2h]
   const double bend = std::acos(std::clamp(remaining / (2.0 * h), -1.0, 1.0));

@@ -95,7 +95,7 @@ struct Worker {
   Environment environment;
   AnalyticOcclusionGradient gradient;
   OcclusionOracle oracle;
-  cv::Mat bgr, depth16, mask, occlusion;
+  cv::Mat bgr, depth16, occlusion;
 };
 
 // The labels of the view `buffers` show at `pose`, before the oracle (which renders elsewhere).

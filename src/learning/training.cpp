@@ -15,6 +15,13 @@
 
 namespace occlusion_env {
 namespace learning {
+
+// The JSON form of EpochMetrics (checkpoint state and model manifests), field by field.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EpochMetrics, epoch, learning_rate, train_loss, val_dice_loss,
+                                   val_pixel_accuracy, val_iou, val_gradient_mse, val_escape_mse,
+                                   val_gradient_angle_deg, val_escape_angle_deg, seconds,
+                                   images_per_second)
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -140,23 +147,6 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
   }
 }
 
-EpochMetrics metricsFromJson(const nlohmann::json& j) {
-  EpochMetrics m;
-  m.epoch = j.at("epoch");
-  m.learning_rate = j.at("learning_rate");
-  m.train_loss = j.at("train_loss");
-  m.val_dice_loss = j.at("val_dice_loss");
-  m.val_pixel_accuracy = j.at("val_pixel_accuracy");
-  m.val_iou = j.at("val_iou");
-  m.val_gradient_mse = j.at("val_gradient_mse");
-  m.val_escape_mse = j.at("val_escape_mse");
-  m.val_gradient_angle_deg = j.at("val_gradient_angle_deg");
-  m.val_escape_angle_deg = j.at("val_escape_angle_deg");
-  m.seconds = j.at("seconds");
-  m.images_per_second = j.at("images_per_second");
-  return m;
-}
-
 }  // namespace
 
 TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes) {
@@ -215,18 +205,7 @@ nlohmann::json TrainingOptions::toJson() const {
 }
 
 nlohmann::json EpochMetrics::toJson() const {
-  return {{"epoch", epoch},
-          {"learning_rate", learning_rate},
-          {"train_loss", train_loss},
-          {"val_dice_loss", val_dice_loss},
-          {"val_pixel_accuracy", val_pixel_accuracy},
-          {"val_iou", val_iou},
-          {"val_gradient_mse", val_gradient_mse},
-          {"val_escape_mse", val_escape_mse},
-          {"val_gradient_angle_deg", val_gradient_angle_deg},
-          {"val_escape_angle_deg", val_escape_angle_deg},
-          {"seconds", seconds},
-          {"images_per_second", images_per_second}};
+  return *this;
 }
 
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
@@ -322,7 +301,7 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     network->load(model_archive);
     optimizer.load(optimizer_archive);
     for (const nlohmann::json& epoch : state.at("history"))
-      history.push_back(metricsFromJson(epoch));
+      history.push_back(epoch.get<EpochMetrics>());
     best_iou = state.at("best_iou").get<double>();
     first_epoch = static_cast<int>(history.size()) + 1;
   }

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
@@ -25,12 +26,6 @@ std::string underRosHome(const std::string& path) {
   return (base / path).string();
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 }  // namespace
 
 AgentNodeOptions readAgentNodeOptions(const ros::NodeHandle& private_node,
@@ -38,13 +33,11 @@ AgentNodeOptions readAgentNodeOptions(const ros::NodeHandle& private_node,
   const ParameterReader reader(private_node);
   AgentNodeOptions options;
   reader.read("agent", options.agent);
-  if (options.agent.empty()) {
-    throw ParameterError(reader.prefix("agent") +
-                         " is not set; one of: " + joined(registry.names()));
-  }
-  if (registry.find(options.agent) == nullptr) {
-    throw ParameterError(reader.prefix("agent") + ": unknown agent '" + options.agent +
-                         "' (one of: " + joined(registry.names()) + ")");
+  try {
+    registry.at(options.agent);  // its message names the registered agents
+  } catch (const InvalidArgumentError& error) {
+    throw ParameterError(reader.prefix("agent") + (options.agent.empty() ? " is not set: " : ": ") +
+                         error.what());
   }
   reader.read("model", options.model_path);
   reader.read("max_steps", options.max_steps);

@@ -66,7 +66,6 @@ StepResult EnvironmentClient::resultFor(const CameraObservation& message) {
     throw InvalidArgumentError(std::string("unreadable observation from ") + describe() + ": " +
                                error.what());
   }
-  latest_ = &message;
   result.observation = &observation_;
   return result;
 }

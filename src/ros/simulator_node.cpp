@@ -230,28 +230,21 @@ void SimulatorNode::onMove(const CameraMove::ConstPtr& move) {
 void SimulatorNode::publishView(bool scene_changed) {
   const std_msgs::Header& header = view_header_;
   const Observation& observation = environment_.observation();
-  if (rgb_publisher_.getNumSubscribers() > 0 || depth_publisher_.getNumSubscribers() > 0) {
-    const auto camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
-        toCameraInfo(environment_.intrinsics(), header));
-    if (rgb_publisher_.getNumSubscribers() > 0) {
-      auto image = boost::make_shared<sensor_msgs::Image>();
-      fillImage(observation.rgb, header, *image);
-      rgb_publisher_.publish(image, camera_info);
-    }
-    if (depth_publisher_.getNumSubscribers() > 0) {
-      auto image = boost::make_shared<sensor_msgs::Image>();
-      fillImage(observation.depth, header, *image);
-      depth_publisher_.publish(image, camera_info);
-    }
-  }
+  // One CameraInfo for every image topic, built only when one has a subscriber.
+  boost::shared_ptr<sensor_msgs::CameraInfo> camera_info;
   for (auto [publisher, mat] :
-       {std::make_pair(&occlusion_mask_publisher_, &observation.occlusion_mask),
+       {std::make_pair(&rgb_publisher_, &observation.rgb),
+        std::make_pair(&depth_publisher_, &observation.depth),
+        std::make_pair(&occlusion_mask_publisher_, &observation.occlusion_mask),
         std::make_pair(&instance_mask_publisher_, &observation.instance)}) {
     if (publisher->getNumSubscribers() == 0) continue;
+    if (!camera_info) {
+      camera_info = boost::make_shared<sensor_msgs::CameraInfo>(
+          toCameraInfo(environment_.intrinsics(), header));
+    }
     auto image = boost::make_shared<sensor_msgs::Image>();
     fillImage(*mat, header, *image);
-    publisher->publish(image, boost::make_shared<sensor_msgs::CameraInfo>(
-                                  toCameraInfo(environment_.intrinsics(), header)));
+    publisher->publish(image, camera_info);
   }
   broadcastCameraTransform(header.stamp);
   if (scene_changed) {

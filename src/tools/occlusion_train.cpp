@@ -157,16 +157,14 @@ int main(int argc, char** argv) {
               << data.validation.size() << " validation frames; " << options.network.variant << ", "
               << options.epochs << " epochs, checkpoints in " << run_dir << "\n";
     std::unique_ptr<eval::ProgressBar> bar;
-    int batches_per_epoch = 0;
+    int done = 0;  // batches in this run (a resumed run starts later)
     learning::TrainingCallbacks callbacks;
     callbacks.on_batch = [&](int epoch, int batch, int batches) {
       if (!bar) {
-        batches_per_epoch = batches;
         bar = std::make_unique<eval::ProgressBar>(std::cerr, (options.epochs - epoch + 1) * batches,
                                                   "training");
         bar->update(0, "");
       }
-      static int done = 0;
       ++done;
       if (batch % 10 == 0 || batch == batches) {
         bar->update(done, "epoch " + std::to_string(epoch) + "/" + std::to_string(options.epochs));
@@ -183,7 +181,6 @@ int main(int argc, char** argv) {
     };
     const auto history = learning::train(data, options, run_dir, callbacks);
     if (bar) bar->finish();
-    (void)batches_per_epoch;
     const std::string script = std::string(OCCLUSION_ENV_SOURCE_DIR) + "/scripts/plot_training.py";
     const std::string log = (std::filesystem::path(run_dir) / "log.csv").string();
     if (eval::runProgram({"/usr/bin/python3", script, log}, "", "") != 0) {

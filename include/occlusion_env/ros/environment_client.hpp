@@ -44,9 +44,6 @@ class EnvironmentClient : public EnvironmentInterface {
   GradientResult occlusionGradient() override;
   std::string describe() const override;
 
-  /// The last reset's or step's message (the images the observation views).
-  const CameraObservation& lastObservationMessage() const { return *latest_; }
-
  private:
   StepResult resultFor(const CameraObservation& message);
 
@@ -62,7 +59,6 @@ class EnvironmentClient : public EnvironmentInterface {
   Reset reset_call_;
   Step step_call_;
   GetOcclusionGradient gradient_call_;
-  const CameraObservation* latest_ = &reset_call_.response.observation;
   Observation observation_;
 };
 
