@@ -1,21 +1,59 @@
 #!/usr/bin/env bash
-# Copies a training run's best model into models/ under NAME and records it in
-# models/MANIFEST.md: what it is, from which data, with which command, its validation metrics
-# and its sha256. Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
+# Copies a training run's model into models/ under NAME and records it in models/MANIFEST.md:
+# what it is, from which data, with which command, its metrics and its sha256. A network run
+# (occlusion_train) ships best.pt; a PPO run (occlusion_train_ppo) ships policy.pt with the end
+# points of its training curves (the last 500 episodes) and the sha256 of its backbone.
+# Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 run=${1:?usage: ship_model.sh RUN_DIR NAME COMMAND}
 name=${2:?usage: ship_model.sh RUN_DIR NAME COMMAND}
 command=${3:?usage: ship_model.sh RUN_DIR NAME COMMAND}
-[[ -f "$run/best.pt" && -f "$run/best.json" ]] || { echo "ship_model: no best.pt/best.json in $run" >&2; exit 1; }
+if [[ -f "$run/best.pt" && -f "$run/best.json" ]]; then
+  model=best
+elif [[ -f "$run/policy.pt" && -f "$run/policy.json" ]]; then
+  model=policy
+else
+  echo "ship_model: neither best.pt/best.json nor policy.pt/policy.json in $run" >&2
+  exit 1
+fi
+validation=""
+if [[ "$model" == policy ]]; then
+  # The policy's mean action on the 50 validation scenes (seeds 900000.., train-split models).
+  agents="$root/.build_ws/devel/lib/occlusion_env/occlusion_agents"
+  [[ -x "$agents" ]] || { echo "ship_model: $agents not built (make build)" >&2; exit 1; }
+  validation=$("$agents" --agents policy --model "$run/policy.pt" --source sweethome3d \
+      --category chair --category table --model-split train --first-seed 900000 --scenes 50 \
+      2>/dev/null | grep '^policy ')
+fi
 mkdir -p "$root/models"
-cp "$run/best.pt" "$root/models/$name.pt"
-python3 - "$run/best.json" "$root/models/$name.json" "$name" "$command" <<'PY'
-import json, sys
-manifest = json.load(open(sys.argv[1]))
-manifest["file"] = sys.argv[3] + ".pt"
-manifest["command"] = sys.argv[4]
-json.dump(manifest, open(sys.argv[2], "w"), indent=2)
+cp "$run/$model.pt" "$root/models/$name.pt"
+python3 - "$run" "$model" "$root/models/$name.json" "$name" "$command" "$validation" <<'PY'
+import csv, hashlib, json, os, sys
+run, model, out, name, command, validation = sys.argv[1:]
+manifest = json.load(open(os.path.join(run, model + ".json")))
+manifest["file"] = name + ".pt"
+manifest["command"] = command
+if manifest.get("kind") == "ppo_policy":
+    episodes = list(csv.DictReader(open(os.path.join(run, "episodes.csv"))))[-500:]
+    manifest["training_end"] = {
+        "episodes": len(episodes),
+        "mean_steps": sum(float(e["steps"]) for e in episodes) / len(episodes),
+        "mean_reward": sum(float(e["reward"]) for e in episodes) / len(episodes),
+        "success_rate": sum(int(e["success"]) for e in episodes) / len(episodes),
+    }
+    backbone = manifest["trained_with"]["backbone_path"]
+    manifest["backbone_sha256"] = hashlib.sha256(open(backbone, "rb").read()).hexdigest()
+    manifest["backbone"] = os.path.basename(backbone)
+    # "policy   10.3 +/-   3.8      0/50    100.0 %"
+    fields = validation.replace("+/-", " ").replace("/", " ").replace("%", " ").split()
+    manifest["validation"] = {
+        "scenes": "sweethome3d chair,table, train split, seeds 900000..900049, start azimuth 0, "
+                  "256 px, 50 steps at most (occlusion_agents)",
+        "mean_steps": float(fields[1]), "std_steps": float(fields[2]),
+        "failures": int(fields[3]), "episodes": int(fields[4]), "success_rate": float(fields[5]) / 100,
+    }
+json.dump(manifest, open(out, "w"), indent=2)
 PY
 python3 - "$root/models" <<'PY'
 import glob, hashlib, json, os, sys
@@ -25,8 +63,12 @@ lines = ["# Shipped models", "",
          "`<name>.json` (network, training options, dataset options, validation metrics, command).", ""]
 lines += ["| model | network | dataset | epoch | val IoU | gradient / escape angle | size | sha256 |",
           "| --- | --- | --- | ---: | ---: | --- | ---: | --- |"]
+policies = []
 for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     m = json.load(open(path))
+    if m.get("kind") == "ppo_policy":
+        policies.append(m)
+        continue
     if "network" not in m:
         continue
     pt = os.path.join(models, m["file"])
@@ -42,11 +84,36 @@ for path in sorted(glob.glob(os.path.join(models, "*.json"))):
                  f"{100 * v['val_iou']:.2f} % | {v['val_gradient_angle_deg']:.1f} / "
                  f"{v['val_escape_angle_deg']:.1f} deg | {os.path.getsize(pt) / 1e6:.1f} MB | "
                  f"`{digest}` |")
+if policies:
+    lines += ["", "PPO policies (`occlusion_train_ppo`); the training curves' end points are the means "
+              "of the last episodes of training (sampled actions, random start azimuths):", "",
+              "| policy | reward | recipe | backbone | env steps | training end: steps / reward / "
+              "success | validation: steps, success | size | sha256 |",
+              "| --- | --- | --- | --- | ---: | --- | --- | ---: | --- |"]
+    for m in policies:
+        t = m["trained_with"]
+        recipe = ("actor from the escape head" if t["actor_from_escape"] else "actor from scratch") + \
+                 (", rig inputs" if t["policy"]["rig_inputs"] else ", image only") + \
+                 f", lambda {t['gae_lambda']}, minibatch {t['minibatch_size']}, target KL {t['target_kl']}"
+        end = m["training_end"]
+        pt = os.path.join(models, m["file"])
+        digest = hashlib.sha256(open(pt, "rb").read()).hexdigest()
+        lines.append(f"| `{m['file']}` | {t['reward']} | {recipe} | `{m['backbone']}` "
+                     f"(sha256 {m['backbone_sha256'][:12]}...) | {m['env_steps']} | "
+                     f"{end['mean_steps']:.1f} / {end['mean_reward']:.2f} / "
+                     f"{100 * end['success_rate']:.0f} % (last {end['episodes']}) | "
+                     f"{m['validation']['mean_steps']:.1f} +/- {m['validation']['std_steps']:.1f}, "
+                     f"{100 * m['validation']['success_rate']:.0f} % | "
+                     f"{os.path.getsize(pt) / 1e6:.1f} MB | `{digest}` |")
 lines += ["", "Commands:", ""]
 for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     m = json.load(open(path))
     if "command" in m:
         lines.append(f"- `{m['file']}`: `{m['command']}`")
+lines += ["", "Policies' validation: the mean action on 50 validation scenes (Sweet Home 3D chairs and "
+          "tables of the train split, seeds 900000-900049, start azimuth 0, 50 steps at most), "
+          "run by `occlusion_agents --agents policy --model <file> --source sweethome3d --category "
+          "chair --category table --model-split train --first-seed 900000 --scenes 50`.", ""]
 lines += ["", "The dataset is regenerated with the `occlusion_dataset` command in the README "
           "(\"The oracle, the model split and training data\")."]
 open(os.path.join(models, "MANIFEST.md"), "w").write("\n".join(lines) + "\n")

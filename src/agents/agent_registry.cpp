@@ -44,10 +44,26 @@ std::vector<std::string> AgentRegistry::names() const {
   return names;
 }
 
+namespace {
+
+bool runsWithoutModelPath(const AgentEntry& entry) {
+  return !entry.needs.model_file || !entry.default_model_path.empty();
+}
+
+}  // namespace
+
+std::vector<std::string> AgentRegistry::runnableByDefault() const {
+  std::vector<std::string> names;
+  for (const AgentEntry& entry : entries_) {
+    if (runsWithoutModelPath(entry)) names.push_back(entry.name);
+  }
+  return names;
+}
+
 std::vector<std::string> AgentRegistry::competitors() const {
   std::vector<std::string> names;
   for (const AgentEntry& entry : entries_) {
-    if (entry.competes) names.push_back(entry.name);
+    if (entry.competes && runsWithoutModelPath(entry)) names.push_back(entry.name);
   }
   return names;
 }

@@ -4,6 +4,7 @@
 
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/learning/policy.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -73,6 +74,9 @@ AgentRegistry learningAgents() {
   AgentRegistry registry = coreAgents();
   registry.add(predictedGradientAgentEntry());
   registry.add(predictedEscapeAgentEntry());
+  registry.add(policyUnAgentEntry());
+  registry.add(policyInAgentEntry());
+  registry.add(policyAgentEntry());
   return registry;
 }
 

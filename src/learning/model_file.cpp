@@ -18,6 +18,7 @@ std::string manifestPathFor(const std::string& model_path) {
 void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::json& info) {
   torch::save(network, path);
   nlohmann::json manifest = info;
+  manifest["kind"] = "multitask_unet";
   manifest["network"] = network->config().toJson();
   manifest["file"] = std::filesystem::path(path).filename().string();
   std::ofstream out(manifestPathFor(path));
@@ -25,7 +26,7 @@ void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::
   if (!out) throw std::runtime_error("cannot write " + manifestPathFor(path));
 }
 
-LoadedModel loadModel(const std::string& path) {
+nlohmann::json readManifest(const std::string& path) {
   if (path.empty()) throw InvalidArgumentError("model: no file given");
   if (!std::filesystem::is_regular_file(path)) {
     throw InvalidArgumentError("model file " + path + " does not exist");
@@ -36,38 +37,57 @@ LoadedModel loadModel(const std::string& path) {
     throw InvalidArgumentError("model " + path + ": its manifest " + manifest_path +
                                " is missing (a model is the .pt and the .json beside it)");
   }
-  LoadedModel model;
-  NetworkConfig config;
   try {
-    model.manifest = nlohmann::json::parse(in);
-    config = NetworkConfig::fromJson(model.manifest.at("network"));
+    return nlohmann::json::parse(in);
   } catch (const std::exception& error) {
     throw InvalidArgumentError("model " + path + ": unreadable manifest " + manifest_path + ": " +
                                error.what());
   }
-  model.network = MultiTaskUNet(config);
-  // torch::load replaces each tensor with the stored one whatever its shape: compare the shapes
-  // with those the manifest's network has.
+}
+
+void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
+                           const std::string& what) {
+  // Loading replaces each tensor with the stored one whatever its shape: compare the shapes with
+  // those the module was built with.
   std::map<std::string, std::vector<int64_t>> expected;
-  for (const auto& item : model.network->named_parameters())
+  for (const auto& item : module.named_parameters())
     expected[item.key()] = item.value().sizes().vec();
-  for (const auto& item : model.network->named_buffers())
-    expected[item.key()] = item.value().sizes().vec();
+  for (const auto& item : module.named_buffers()) expected[item.key()] = item.value().sizes().vec();
   try {
-    torch::load(model.network, path);
-    for (const auto& item : model.network->named_parameters()) {
-      if (item.value().sizes().vec() != expected.at(item.key())) {
-        throw InvalidArgumentError("model " + path + " does not match its manifest's network (" +
-                                   config.toJson().dump() + "): " + item.key() + " has shape " +
-                                   c10::str(item.value().sizes()));
-      }
-    }
+    torch::serialize::InputArchive archive;
+    archive.load_from(path);
+    module.load(archive);
   } catch (const c10::Error& error) {
-    const std::string what = error.what_without_backtrace();
-    throw InvalidArgumentError("model " + path +
-                               " is corrupt or does not match its manifest's network (" +
-                               config.toJson().dump() + "): " + what.substr(0, 300));
+    const std::string message = error.what_without_backtrace();
+    throw InvalidArgumentError("model " + path + " is corrupt or does not match " + what + ": " +
+                               message.substr(0, 300));
   }
+  for (const auto& item : module.named_parameters()) {
+    if (item.value().sizes().vec() != expected.at(item.key())) {
+      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + item.key() +
+                                 " has shape " + c10::str(item.value().sizes()));
+    }
+  }
+}
+
+LoadedModel loadModel(const std::string& path) {
+  LoadedModel model;
+  model.manifest = readManifest(path);
+  if (model.manifest.value("kind", "multitask_unet") != "multitask_unet") {
+    throw InvalidArgumentError("model " + path + " is a " +
+                               model.manifest.value("kind", std::string()) +
+                               ", not a multi-task network");
+  }
+  NetworkConfig config;
+  try {
+    config = NetworkConfig::fromJson(model.manifest.at("network"));
+  } catch (const std::exception& error) {
+    throw InvalidArgumentError("model " + path + ": unreadable manifest " + manifestPathFor(path) +
+                               ": " + error.what());
+  }
+  model.network = MultiTaskUNet(config);
+  loadCheckedParameters(*model.network, path,
+                        "its manifest's network (" + config.toJson().dump() + ")");
   model.network->eval();
   return model;
 }

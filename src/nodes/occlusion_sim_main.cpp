@@ -17,12 +17,14 @@ int main(int argc, char** argv) {
   try {
     // Built on this thread, which then spins alone: the GL context stays on one thread and
     // service calls are served one at a time, in order.
-    occlusion_env::SimulatorNode simulator(occlusion_env::readSimulatorOptions(private_node), node,
-                                           private_node);
+    const auto options = occlusion_env::readSimulatorOptions(private_node);
+    occlusion_env::SimulatorNode simulator(options, node, private_node);
     ROS_INFO_STREAM("occlusion_sim ready: services "
                     << node.resolveName(occlusion_env::names::kResetService) << ", "
-                    << node.resolveName(occlusion_env::names::kStepService) << ", "
-                    << node.resolveName(occlusion_env::names::kGradientService));
+                    << node.resolveName(occlusion_env::names::kStepService)
+                    << (options.offer_gradient
+                            ? ", " + node.resolveName(occlusion_env::names::kGradientService)
+                            : std::string(" (no gradient service)")));
     ros::spin();
   } catch (const std::exception& error) {
     ROS_FATAL_STREAM("occlusion_sim cannot start: " << error.what());

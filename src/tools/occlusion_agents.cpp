@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "occlusion_env/agents/core_agents.hpp"
-#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {
@@ -32,6 +32,8 @@ Options:
   --source S          embedded | sweethome3d | folder (default embedded)
   --path P            a .sh3f file or folder (sweethome3d), the root (folder); repeatable
   --category C        draw objects of this category only; repeatable
+  --model-split S     all | train | test: draw only models of this split (default all)
+  --model PATH        model file for the agents that need one (default: each one's shipped model)
   --size N            image width and height [px] (default 256)
   --gradient M        the simulator's gradient: analytic | finite_difference (default analytic)
   --agents-markdown   print the registry's agents as the README's Markdown table and exit
@@ -51,6 +53,7 @@ struct Arguments {
   int scenes = 50;
   int first_seed = 0;
   int max_steps = 50;
+  std::string model;  // "" = each agent's shipped model
 };
 
 void printUsage(const occlusion_env::AgentRegistry& registry) {
@@ -105,6 +108,10 @@ Arguments parse(int argc, char** argv, const occlusion_env::AgentRegistry& regis
         args.options.width = args.options.height = static_cast<int>(reader.integer(64, 1000000));
       } else if (flag == "--gradient") {
         args.options.gradient_method = reader.text();
+      } else if (flag == "--model") {
+        args.model = reader.text();
+      } else if (flag == "--model-split") {
+        args.options.scene.model_split = occlusion_env::parseModelSplit(reader.text());
       } else {
         reader.unknown();
       }
@@ -121,7 +128,9 @@ int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
   const std::vector<std::string> names = args.agents.empty() ? registry.competitors() : args.agents;
   Environment environment(args.options);
   std::vector<std::unique_ptr<Agent>> agents;
-  for (const std::string& name : names) agents.push_back(registry.make(name, {environment, ""}));
+  for (const std::string& name : names) {
+    agents.push_back(registry.make(name, {environment, args.model}));
+  }
   std::vector<std::vector<EpisodeRecord>> episodes(names.size());
   EpisodeRunOptions run_options;
   run_options.max_steps = args.max_steps;

@@ -207,7 +207,7 @@ std::string runSceneSet(const CommandLine& cl, const std::string& scenes_path) {
   if (cl.limit > 0 && static_cast<std::size_t>(cl.limit) < plan.scenes.seeds.size()) {
     plan.scenes.seeds.resize(cl.limit);
   }
-  plan.agents = cl.agents.empty() ? registry().names() : cl.agents;  // the oracle too
+  plan.agents = cl.agents.empty() ? registry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
   plan.max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
@@ -266,7 +266,7 @@ std::string runLandscape(const CommandLine& cl, const std::string& scenes_path) 
   std::vector<EpisodeRecord> paths;
   EpisodeRunOptions run_options;
   run_options.max_steps = max_steps;
-  for (const std::string& name : cl.agents.empty() ? registry().names() : cl.agents) {
+  for (const std::string& name : cl.agents.empty() ? registry().runnableByDefault() : cl.agents) {
     const std::unique_ptr<Agent> agent = registry().make(name, {env, cl.model});
     EpisodeRequest request;
     request.agent = name;
@@ -361,6 +361,57 @@ std::string withLinkPrefix(const std::string& markdown, const std::string& prefi
   return std::regex_replace(markdown, kLocalLink, "](" + prefix + "$1)");
 }
 
+// The shipped PPO policies (models/*.json of kind ppo_policy): recipe, training length, the end
+// of their training curves and their validation figures.
+std::string policySection(const CommandLine& cl) {
+  std::vector<nlohmann::json> policies;
+  const fs::path models = fs::path(cl.source_dir) / "models";
+  if (fs::is_directory(models)) {
+    std::vector<fs::path> manifests;
+    for (const auto& entry : fs::directory_iterator(models)) {
+      if (entry.path().extension() == ".json") manifests.push_back(entry.path());
+    }
+    std::sort(manifests.begin(), manifests.end());
+    for (const fs::path& path : manifests) {
+      std::ifstream in(path);
+      try {
+        nlohmann::json manifest = nlohmann::json::parse(in);
+        if (manifest.value("kind", "") == "ppo_policy" && manifest.contains("validation")) {
+          policies.push_back(std::move(manifest));
+        }
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  if (policies.empty()) return "";
+  std::ostringstream md;
+  md << "## The PPO policies (Figure 3)\n\n"
+     << "The shipped policies (`models/`, trained by `occlusion_train_ppo` on training scenes "
+        "and train-split models only; commands and checksums in `models/MANIFEST.md`). Training "
+        "end: the means of the last episodes of training (sampled actions, random start "
+        "azimuths). Validation: the mean action on 50 validation scenes (Sweet Home 3D chairs "
+        "and tables of the train split, seeds 900000-900049, start azimuth 0). Training curves "
+        "(the paper's Figure 3): [doc/images/ppo_training.png](doc/images/ppo_training.png), "
+        "made by `scripts/plot_ppo.py` from the runs' `episodes.csv`.\n\n"
+     << "| Policy | Reward | Actor start | Rig inputs | Env steps | Training end: steps | "
+        "success | Validation: steps | success |\n|---|---|---|---|---:|---:|---:|---:|---:|\n";
+  for (const nlohmann::json& m : policies) {
+    const nlohmann::json& t = m.at("trained_with");
+    const nlohmann::json& end = m.at("training_end");
+    const nlohmann::json& v = m.at("validation");
+    md << std::fixed << "| `" << fs::path(m.value("file", "?")).stem().string() << "` | "
+       << t.value("reward", "?") << " | "
+       << (t.value("actor_from_escape", false) ? "escape head" : "scratch") << " | "
+       << (t.at("policy").value("rig_inputs", false) ? "yes" : "no") << " | "
+       << m.value("env_steps", 0) << " | " << std::setprecision(1) << end.value("mean_steps", 0.0)
+       << " | " << std::setprecision(0) << 100.0 * end.value("success_rate", 0.0) << " % | "
+       << std::setprecision(1) << v.value("mean_steps", 0.0) << " +/- " << v.value("std_steps", 0.0)
+       << " | " << std::setprecision(0) << 100.0 * v.value("success_rate", 0.0) << " % |\n";
+  }
+  md << "\n";
+  return md.str();
+}
+
 // Table 3 layout: the validation figures of every shipped model (models/*.json), beside the
 // paper's rows.
 std::string networkSection(const CommandLine& cl) {
@@ -392,6 +443,7 @@ std::string networkSection(const CommandLine& cl) {
       continue;
     }
     if (!manifest.contains("validation") || !manifest.contains("network")) continue;
+    if (manifest.value("kind", "") == "ppo_policy") continue;  // policySection()
     const nlohmann::json& v = manifest["validation"];
     const nlohmann::json& net = manifest["network"];
     const std::string loss =
@@ -416,7 +468,7 @@ std::string networkSection(const CommandLine& cl) {
 }
 
 void runAll(const CommandLine& cl) {
-  std::string sections = networkSection(cl);
+  std::string sections = networkSection(cl) + policySection(cl);
   for (const char* set : {"test_embedded", "test_sweethome3d", "test_sweethome3d_unseen"}) {
     const std::string summary = runSceneSet(cl, cl.source_dir + "/config/scenes/" + set + ".yaml");
     // The scene set's own heading, one level down.

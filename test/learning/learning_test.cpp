@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "learning/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/generator.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -17,12 +18,6 @@ namespace learning {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path temporaryDir(const std::string& name) {
-  const fs::path path = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(path);
-  return path;
-}
 
 TEST(LearningTest, LibtorchDoesNotRunOnTheReferenceBlas) {
   const std::string blas = loadedBlasLibrary();

@@ -41,6 +41,10 @@ TEST(LearnedAgentNodes, PredictedEscapeRunsAsInProcess) {
   checkAgent("predicted_escape");
 }
 
+TEST(LearnedAgentNodes, ShippedPolicyRunsAsInProcess) {
+  checkAgent("policy_un");
+}
+
 }  // namespace
 }  // namespace occlusion_env
 

@@ -37,7 +37,8 @@ struct AgentEntry {
   /// reported beside the competitors, not as one.
   bool competes = true;
   std::string paper_label;         // the paper's name for the method ("" if it has none)
-  std::string default_model_path;  // with needs.model_file: the shipped model
+  std::string default_model_path;  // with needs.model_file: the shipped model ("" = none: the
+                                   // agent runs only when named, with a model path)
   AgentFactory make;
 };
 
@@ -53,7 +54,10 @@ class AgentRegistry {
   /// In registration order.
   const std::vector<AgentEntry>& entries() const { return entries_; }
   std::vector<std::string> names() const;
-  /// The agents with competes = true, in registration order.
+  /// The agents an evaluation runs when none are named: all but the generic entries that need a
+  /// model file and ship none (they run only when named, with a model path).
+  std::vector<std::string> runnableByDefault() const;
+  /// Of those, the ones with competes = true, in registration order.
   std::vector<std::string> competitors() const;
 
   /// Why `name` cannot run on `environment` (a need it does not meet), or "" when it can.

@@ -26,6 +26,9 @@ struct SeedRange {
 /// The first seed of the test ranges; training seeds are [0, kFirstTestSeed).
 inline constexpr std::uint64_t kFirstTestSeed = 1'000'000;
 inline constexpr SeedRange kTrainingSeedRange{0, kFirstTestSeed};
+/// Validation scenes (choosing hyper-parameters): the top of the training range, which trainers
+/// that draw scene seeds (occlusion_train_ppo) leave out.
+inline constexpr std::uint64_t kFirstValidationSeed = 900'000;
 
 struct SceneSet {
   std::string name;

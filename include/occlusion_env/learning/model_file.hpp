@@ -26,5 +26,14 @@ LoadedModel loadModel(const std::string& path);
 /// "<path without .pt>.json"
 std::string manifestPathFor(const std::string& model_path);
 
+/// The manifest beside `path`, parsed. Throws InvalidArgumentError when the model file or its
+/// manifest is missing or the manifest is not JSON.
+nlohmann::json readManifest(const std::string& path);
+
+/// Loads the parameters and buffers saved in `path` into `module`, refusing (InvalidArgumentError
+/// naming `what`) a corrupt file or one whose tensors do not have `module`'s shapes.
+void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
+                           const std::string& what);
+
 }  // namespace learning
 }  // namespace occlusion_env

@@ -67,6 +67,8 @@ class MultiTaskUNetImpl : public torch::nn::Module {
   /// The pooled bottleneck only (the encoder), [B, C].
   torch::Tensor encode(torch::Tensor input);
   const NetworkConfig& config() const { return config_; }
+  /// Linear -> ReLU -> Linear to (sin, cos) of the escape direction (a policy's actor starts here).
+  torch::nn::Sequential& escapeHead() { return escape_head_; }
 
  private:
   torch::Tensor encoderFeatures(torch::Tensor input, std::vector<torch::Tensor>* skips);

@@ -1,0 +1,84 @@
+// N environments stepped together, each on a thread of its own: an in-process simulator keeps its
+// GL context on the thread that made it, a ROS client waits on its own service call. One call
+// sends every environment its request (reset, step or nothing) and returns when all have
+// answered, so a trainer batches the N observations for one inference.
+//
+//   VectorEnvironment envs(4, [&](int i) { return std::make_unique<Environment>(options); });
+//   envs.run(requests);  // requests[i]: reset(seed) | step(action) | idle
+//   envs.result(i)       // what environment i answered last
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "occlusion_env/env/environment_interface.hpp"
+
+namespace occlusion_env {
+
+/// What one environment does in VectorEnvironment::run().
+struct VectorRequest {
+  enum class Kind { kIdle, kReset, kStep };
+  Kind kind = Kind::kIdle;
+  std::uint64_t seed = 0;  // kReset
+  ResetOptions reset;      // kReset
+  Action action;           // kStep
+
+  static VectorRequest idle() { return {}; }
+  static VectorRequest resetTo(std::uint64_t seed, const ResetOptions& options = {});
+  static VectorRequest stepBy(const Action& action);
+};
+
+class VectorEnvironment {
+ public:
+  /// Makes environment i on its own thread (the thread that then makes all of its calls).
+  using Factory = std::function<std::unique_ptr<EnvironmentInterface>(int index)>;
+  /// Called on environment i's thread after each of its resets and steps, while its observation
+  /// is valid: the place to convert it for a network in parallel (write into a batch slot).
+  using Observer = std::function<void(int index, const StepResult& result)>;
+
+  /// Starts `count` threads and makes the environments; rethrows the first factory error.
+  VectorEnvironment(int count, Factory factory, Observer observer = {});
+  ~VectorEnvironment();
+  VectorEnvironment(const VectorEnvironment&) = delete;
+  VectorEnvironment& operator=(const VectorEnvironment&) = delete;
+
+  int size() const { return static_cast<int>(workers_.size()); }
+
+  /// Environment i carries out requests[i], all concurrently; returns when all are done. Throws
+  /// the first error (naming the environment) after all have answered; environments whose
+  /// request succeeded keep their new state.
+  void run(const std::vector<VectorRequest>& requests);
+
+  /// Environment i's answer to its last reset or step. Its observation is valid until the next
+  /// run() that resets or steps environment i.
+  const StepResult& result(int index) const { return workers_.at(index)->result; }
+  std::string describe(int index) const { return workers_.at(index)->description; }
+
+ private:
+  struct Worker {
+    std::thread thread;
+    std::unique_ptr<EnvironmentInterface> environment;
+    VectorRequest request;
+    bool has_work = false;
+    StepResult result;
+    std::exception_ptr error;
+    std::string description;
+  };
+  void serve(int index, const Factory& factory);
+
+  Observer observer_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::mutex mutex_;
+  std::condition_variable work_ready_, work_done_;
+  int pending_ = 0;
+  bool stopping_ = false;
+};
+
+}  // namespace occlusion_env

@@ -1,0 +1,116 @@
+// The PPO policy of Section 5.3 (Agent-UN / Agent-IN): actor and critic heads on the pooled
+// encoder features of a pretrained multi-task network (learning/multitask_unet.hpp), a Gaussian
+// action on the (azimuth, elevation) plane. Besides the image the heads see what a real rig knows
+// of itself: the direction of its last move and its elevation; never masks, the gradient or the
+// scene.
+//
+// Policy inputs, written once:
+//   features [B, C]   the backbone's encode() of the RGB-D input (network_input.hpp)
+//   rig      [B, 3]   (cos, sin) of the last move's direction theta = atan2(d_el, d_az), (0, 0)
+//                     before the first move; the camera's elevation / (pi / 2)
+// Actor: mean action (d_azimuth, d_elevation) = body(features) + rig_term(rig) (scaled to unit
+// length with unit_mean), where body has
+// the escape head's shape (Linear -> ReLU -> Linear) so that it can start as the escape head
+// (its (sin, cos) rows swapped into (d_az, d_el)) and rig_term starts at zero. The environment
+// normalises every action to one unit step, so only the mean's direction moves the camera.
+// Critic: Linear -> Tanh -> Linear -> Tanh -> Linear on [features, rig].
+#pragma once
+
+#include <torch/torch.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/learning/multitask_unet.hpp"
+#include "occlusion_env/learning/network_input.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+constexpr int kRigInputs = 3;
+
+struct PolicyConfig {
+  int hidden = 64;         // width of the actor body's and the critic's hidden layers
+  bool rig_inputs = true;  // false: the heads see the image features alone (the paper's)
+  /// The mean action scaled to unit length, so that sigma alone sets how far samples stray from
+  /// it (the environment moves one unit step whatever the length: with a free length a policy
+  /// can outgrow its noise instead of improving its direction). false (the paper's, and on our
+  /// validation scenes the better one, doc/PPO.md): the mean's length is free.
+  bool unit_mean = false;
+
+  void validate() const;
+  nlohmann::json toJson() const;
+  static PolicyConfig fromJson(const nlohmann::json& json);
+};
+
+class PolicyNetworkImpl : public torch::nn::Module {
+ public:
+  PolicyNetworkImpl(const NetworkConfig& backbone, const PolicyConfig& config);
+
+  /// The backbone's pooled encoder features of `input` [B, 4, S, S] -> [B, C].
+  torch::Tensor features(const torch::Tensor& input);
+  /// Mean action [B, 2] = (d_azimuth, d_elevation).
+  torch::Tensor actionMean(const torch::Tensor& features, const torch::Tensor& rig);
+  /// State value [B].
+  torch::Tensor value(const torch::Tensor& features, const torch::Tensor& rig);
+
+  /// Copies `network`'s encoder (all of it, for the features) and, when `actor_from_escape`,
+  /// its escape head into the actor body.
+  void initialiseFrom(MultiTaskUNet& network, bool actor_from_escape);
+
+  MultiTaskUNet& backbone() { return backbone_; }
+  std::vector<torch::Tensor> actorParameters();
+  std::vector<torch::Tensor> criticParameters();
+  const PolicyConfig& config() const { return config_; }
+
+ private:
+  torch::Tensor rigOrZero(const torch::Tensor& rig);
+
+  PolicyConfig config_;
+  MultiTaskUNet backbone_{nullptr};
+  torch::nn::Sequential actor_body_{nullptr};
+  torch::nn::Linear actor_rig_{nullptr};
+  torch::nn::Sequential critic_{nullptr};
+};
+TORCH_MODULE(PolicyNetwork);
+
+/// The rig inputs of one step (see the top of this file) into `out` (3 floats).
+void writeRigInput(const Action& last_move, double elevation_rad, float* out);
+
+/// A policy on disk: `<name>.pt` beside `<name>.json` (kind "ppo_policy", the backbone's
+/// NetworkConfig, the PolicyConfig, how it was trained, its metrics).
+void savePolicy(PolicyNetwork& policy, const std::string& path, const nlohmann::json& info);
+
+struct LoadedPolicy {
+  PolicyNetwork network{nullptr};
+  nlohmann::json manifest;
+};
+
+/// Loads a policy saved by savePolicy(), in eval mode. Throws InvalidArgumentError for a missing,
+/// corrupt or mismatched file, or a file that is not a policy.
+LoadedPolicy loadPolicy(const std::string& path);
+
+/// Acts with the policy's mean action (deterministic). Allocates nothing per step once sized.
+class PolicyAgent : public Agent {
+ public:
+  explicit PolicyAgent(std::shared_ptr<LoadedPolicy> policy);
+  void reset(std::uint64_t seed) override;
+  Action act(const Observation& observation, const StepInfo& info) override;
+
+ private:
+  std::shared_ptr<LoadedPolicy> policy_;
+  InputScratch scratch_;
+  torch::Tensor input_, rig_;
+  Action last_move_;
+};
+
+/// The shipped policies (models/policy_un.pt, models/policy_in.pt) and the generic entry that
+/// runs any policy file given by path.
+AgentEntry policyUnAgentEntry();
+AgentEntry policyInAgentEntry();
+AgentEntry policyAgentEntry();
+
+}  // namespace learning
+}  // namespace occlusion_env

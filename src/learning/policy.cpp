@@ -1,0 +1,234 @@
+#include "occlusion_env/learning/policy.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+namespace nn = torch::nn;
+
+void PolicyConfig::validate() const {
+  if (hidden < 1 || hidden > 4096) {
+    throw InvalidArgumentError("policy: hidden must be in [1, 4096], got " +
+                               std::to_string(hidden));
+  }
+}
+
+nlohmann::json PolicyConfig::toJson() const {
+  return {{"hidden", hidden}, {"rig_inputs", rig_inputs}, {"unit_mean", unit_mean}};
+}
+
+PolicyConfig PolicyConfig::fromJson(const nlohmann::json& json) {
+  PolicyConfig config;
+  config.hidden = json.at("hidden").get<int>();
+  config.rig_inputs = json.at("rig_inputs").get<bool>();
+  config.unit_mean = json.value("unit_mean", false);  // policies from before the option
+  config.validate();
+  return config;
+}
+
+PolicyNetworkImpl::PolicyNetworkImpl(const NetworkConfig& backbone, const PolicyConfig& config)
+    : config_(config) {
+  config_.validate();
+  const int features = backbone.bottleneckChannels();
+  backbone_ = register_module("backbone", MultiTaskUNet(backbone));
+  actor_body_ =
+      register_module("actor_body", nn::Sequential(nn::Linear(features, config_.hidden), nn::ReLU(),
+                                                   nn::Linear(config_.hidden, 2)));
+  actor_rig_ = register_module("actor_rig", nn::Linear(kRigInputs, 2));
+  critic_ = register_module(
+      "critic", nn::Sequential(nn::Linear(features + kRigInputs, config_.hidden), nn::Tanh(),
+                               nn::Linear(config_.hidden, config_.hidden), nn::Tanh(),
+                               nn::Linear(config_.hidden, 1)));
+  torch::NoGradGuard no_grad;
+  // The rig term starts at zero (the actor is the body alone); small last layers so that a fresh
+  // actor starts near the zero mean and the critic near zero (the PPO literature's
+  // initialisation: 0.01 for the policy's output, 1 for the value's).
+  actor_rig_->weight.zero_();
+  actor_rig_->bias.zero_();
+  auto* actor_out = actor_body_[2]->as<nn::LinearImpl>();
+  nn::init::orthogonal_(actor_out->weight, 0.01);
+  actor_out->bias.zero_();
+  for (int layer : {0, 2, 4}) {
+    auto* linear = critic_[layer]->as<nn::LinearImpl>();
+    nn::init::orthogonal_(linear->weight, layer == 4 ? 1.0 : std::sqrt(2.0));
+    linear->bias.zero_();
+  }
+}
+
+torch::Tensor PolicyNetworkImpl::features(const torch::Tensor& input) {
+  return backbone_->encode(input);
+}
+
+torch::Tensor PolicyNetworkImpl::rigOrZero(const torch::Tensor& rig) {
+  return config_.rig_inputs ? rig : torch::zeros_like(rig);
+}
+
+torch::Tensor PolicyNetworkImpl::actionMean(const torch::Tensor& features,
+                                            const torch::Tensor& rig) {
+  const torch::Tensor mean = actor_body_->forward(features) + actor_rig_->forward(rigOrZero(rig));
+  if (!config_.unit_mean) return mean;
+  return mean / mean.norm(2, 1, /*keepdim=*/true).clamp_min(1e-6);
+}
+
+torch::Tensor PolicyNetworkImpl::value(const torch::Tensor& features, const torch::Tensor& rig) {
+  return critic_->forward(torch::cat({features, rigOrZero(rig)}, 1)).squeeze(1);
+}
+
+void PolicyNetworkImpl::initialiseFrom(MultiTaskUNet& network, bool actor_from_escape) {
+  if (network->config().toJson() != backbone_->config().toJson()) {
+    throw InvalidArgumentError("policy: the pretrained network's configuration " +
+                               network->config().toJson().dump() + " is not the backbone's " +
+                               backbone_->config().toJson().dump());
+  }
+  torch::NoGradGuard no_grad;
+  auto source = network->named_parameters();
+  for (auto& item : backbone_->named_parameters()) item.value().copy_(source[item.key()]);
+  auto source_buffers = network->named_buffers();
+  for (auto& item : backbone_->named_buffers()) item.value().copy_(source_buffers[item.key()]);
+  if (!actor_from_escape) return;
+  if (config_.hidden != 64) {
+    throw InvalidArgumentError("policy: an actor initialised from the escape head needs hidden 64");
+  }
+  auto& escape = network->escapeHead();
+  auto* in = escape[0]->as<nn::LinearImpl>();
+  auto* out = escape[2]->as<nn::LinearImpl>();
+  auto* actor_in = actor_body_[0]->as<nn::LinearImpl>();
+  auto* actor_out = actor_body_[2]->as<nn::LinearImpl>();
+  actor_in->weight.copy_(in->weight);
+  actor_in->bias.copy_(in->bias);
+  // The escape head gives (sin, cos) of theta = atan2(d_el, d_az): (d_az, d_el) = rows (1, 0).
+  const torch::Tensor order = torch::tensor({1, 0}, torch::kLong);
+  actor_out->weight.copy_(out->weight.index_select(0, order));
+  actor_out->bias.copy_(out->bias.index_select(0, order));
+}
+
+std::vector<torch::Tensor> PolicyNetworkImpl::actorParameters() {
+  std::vector<torch::Tensor> parameters = actor_body_->parameters();
+  for (auto& p : actor_rig_->parameters()) parameters.push_back(p);
+  return parameters;
+}
+
+std::vector<torch::Tensor> PolicyNetworkImpl::criticParameters() {
+  return critic_->parameters();
+}
+
+void writeRigInput(const Action& last_move, double elevation_rad, float* out) {
+  const double norm = std::hypot(last_move.d_azimuth_rad, last_move.d_elevation_rad);
+  out[0] = norm > 0.0 ? static_cast<float>(last_move.d_azimuth_rad / norm) : 0.0f;
+  out[1] = norm > 0.0 ? static_cast<float>(last_move.d_elevation_rad / norm) : 0.0f;
+  out[2] = static_cast<float>(elevation_rad / (M_PI / 2.0));
+}
+
+void savePolicy(PolicyNetwork& policy, const std::string& path, const nlohmann::json& info) {
+  torch::save(policy, path);
+  nlohmann::json manifest = info;
+  manifest["kind"] = "ppo_policy";
+  manifest["network"] = policy->backbone()->config().toJson();
+  manifest["policy"] = policy->config().toJson();
+  manifest["file"] = std::filesystem::path(path).filename().string();
+  std::ofstream out(manifestPathFor(path));
+  out << manifest.dump(2) << '\n';
+  if (!out) throw std::runtime_error("cannot write " + manifestPathFor(path));
+}
+
+LoadedPolicy loadPolicy(const std::string& path) {
+  LoadedPolicy policy;
+  policy.manifest = readManifest(path);
+  if (policy.manifest.value("kind", std::string()) != "ppo_policy") {
+    throw InvalidArgumentError("model " + path + " is not a PPO policy (its manifest's kind is " +
+                               policy.manifest.value("kind", std::string("multitask_unet")) +
+                               "; occlusion_train_ppo writes policies)");
+  }
+  NetworkConfig backbone;
+  PolicyConfig config;
+  try {
+    backbone = NetworkConfig::fromJson(policy.manifest.at("network"));
+    config = PolicyConfig::fromJson(policy.manifest.at("policy"));
+  } catch (const std::exception& error) {
+    throw InvalidArgumentError("policy " + path + ": unreadable manifest " + manifestPathFor(path) +
+                               ": " + error.what());
+  }
+  policy.network = PolicyNetwork(backbone, config);
+  loadCheckedParameters(*policy.network, path, "its manifest's policy");
+  policy.network->eval();
+  return policy;
+}
+
+PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy) : policy_(std::move(policy)) {
+  if (!policy_ || !policy_->network) throw InvalidArgumentError("policy agent: no policy");
+  const int size = policy_->network->backbone()->config().input_size;
+  input_ = torch::empty({1, 4, size, size});
+  rig_ = torch::zeros({1, kRigInputs});
+}
+
+void PolicyAgent::reset(std::uint64_t) {
+  last_move_ = Action{};
+}
+
+Action PolicyAgent::act(const Observation& observation, const StepInfo& info) {
+  auto& network = policy_->network;
+  writeNetworkInput(observation.rgb, observation.depth, network->backbone()->config().input_size,
+                    scratch_, input_.data_ptr<float>());
+  writeRigInput(last_move_, info.pose.elevation_rad, rig_.data_ptr<float>());
+  torch::InferenceMode inference;
+  const torch::Tensor mean = network->actionMean(network->features(input_), rig_);
+  const float d_azimuth = mean[0][0].item<float>(), d_elevation = mean[0][1].item<float>();
+  if (!std::isfinite(d_azimuth) || !std::isfinite(d_elevation)) {
+    throw std::runtime_error("the policy's action is not finite");
+  }
+  last_move_ = {d_azimuth, d_elevation};
+  return last_move_;
+}
+
+namespace {
+
+std::string shippedPolicyPath(const std::string& name) {
+  return std::string(OCCLUSION_ENV_SOURCE_DIR) + "/models/" + name + ".pt";
+}
+
+AgentEntry policyEntry(const std::string& name, const std::string& summary,
+                       const std::string& paper_label, const std::string& default_model_path) {
+  AgentEntry entry;
+  entry.name = name;
+  entry.summary = summary;
+  entry.needs.model_file = true;
+  entry.paper_label = paper_label;
+  entry.default_model_path = default_model_path;
+  entry.make = [](const AgentContext& context) {
+    return std::make_unique<PolicyAgent>(
+        std::make_shared<LoadedPolicy>(loadPolicy(context.model_path)));
+  };
+  return entry;
+}
+
+}  // namespace
+
+AgentEntry policyUnAgentEntry() {
+  return policyEntry("policy_un",
+                     "the shipped PPO policy trained with the union-normalised reward (mean "
+                     "action), from the RGB-D image and the rig's own last move and elevation",
+                     "Agent-UN", shippedPolicyPath("policy_un"));
+}
+
+AgentEntry policyInAgentEntry() {
+  return policyEntry("policy_in",
+                     "the shipped PPO policy trained with the intersection-normalised reward "
+                     "(mean action), from the RGB-D image and the rig's own last move and "
+                     "elevation",
+                     "Agent-IN", shippedPolicyPath("policy_in"));
+}
+
+AgentEntry policyAgentEntry() {
+  return policyEntry("policy",
+                     "any PPO policy written by occlusion_train_ppo, by model path (mean action)",
+                     "", "");
+}
+
+}  // namespace learning
+}  // namespace occlusion_env

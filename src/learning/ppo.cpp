@@ -1,0 +1,587 @@
+#include "occlusion_env/learning/ppo.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/network_input.hpp"
+
+namespace occlusion_env {
+namespace learning {
+
+namespace fs = std::filesystem;
+
+void PpoOptions::validate() const {
+  const auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw InvalidArgumentError("ppo: " + what);
+  };
+  require(!backbone_path.empty(), "a pretrained network (backbone_path) is needed");
+  require(reward == "union" || reward == "intersection" || reward == "none",
+          "reward must be union, intersection or none");
+  require(total_steps >= 1, "total_steps must be >= 1");
+  require(steps_per_update >= 2, "steps_per_update must be >= 2");
+  require(epochs >= 1, "epochs must be >= 1");
+  require(minibatch_size >= 2, "minibatch_size must be >= 2");
+  require(actor_learning_rate > 0 && critic_learning_rate > 0 && backbone_learning_rate > 0,
+          "learning rates must be > 0");
+  require(gamma > 0 && gamma <= 1, "gamma must be in (0, 1]");
+  require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda must be in [0, 1]");
+  require(clip_epsilon > 0 && clip_epsilon < 1, "clip_epsilon must be in (0, 1)");
+  require(action_std > 0 && action_std_end > 0, "action_std and action_std_end must be > 0");
+  require(entropy_coefficient >= 0 && max_grad_norm >= 0 && target_kl >= 0,
+          "entropy_coefficient, max_grad_norm and target_kl must be >= 0");
+  require(threads >= 0 && checkpoint_every >= 1, "threads >= 0 and checkpoint_every >= 1");
+  policy.validate();
+}
+
+nlohmann::json PpoOptions::toJson() const {
+  return {{"backbone_path", backbone_path},
+          {"actor_from_escape", actor_from_escape},
+          {"fine_tune", fine_tune},
+          {"policy", policy.toJson()},
+          {"reward", reward},
+          {"total_steps", total_steps},
+          {"steps_per_update", steps_per_update},
+          {"epochs", epochs},
+          {"minibatch_size", minibatch_size},
+          {"actor_learning_rate", actor_learning_rate},
+          {"critic_learning_rate", critic_learning_rate},
+          {"backbone_learning_rate", backbone_learning_rate},
+          {"gamma", gamma},
+          {"gae_lambda", gae_lambda},
+          {"clip_epsilon", clip_epsilon},
+          {"action_std", action_std},
+          {"action_std_end", action_std_end},
+          {"entropy_coefficient", entropy_coefficient},
+          {"max_grad_norm", max_grad_norm},
+          {"target_kl", target_kl},
+          {"normalize_advantages", normalize_advantages},
+          {"seed", seed}};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+constexpr double kLogSqrtTwoPi = 0.91893853320467274178;
+
+// Sum over the two action dimensions of log N(action; mean, std^2).
+torch::Tensor gaussianLogProbability(const torch::Tensor& action, const torch::Tensor& mean,
+                                     double std) {
+  const torch::Tensor z = (action - mean) / std;
+  return (-0.5 * z * z - std::log(std) - kLogSqrtTwoPi).sum(1);
+}
+
+double gaussianEntropy(double std) {
+  return 2.0 * (0.5 + kLogSqrtTwoPi + std::log(std));
+}
+
+// The state that a checkpoint keeps besides the parameters and optimisers.
+struct Progress {
+  int updates = 0;
+  std::int64_t env_steps = 0;
+  std::int64_t episodes = 0;
+  std::mt19937_64 random;  // scene seeds, action noise, minibatch order
+};
+
+// Keeps the rows of a CSV whose first column is <= `last` (rows written after the checkpoint
+// that a resumed run writes again), or starts it with `header`.
+void trimCsv(const fs::path& path, const std::string& header, std::int64_t last) {
+  std::vector<std::string> kept{header};
+  std::ifstream in(path);
+  std::string line;
+  if (in && std::getline(in, line)) {
+    while (std::getline(in, line)) {
+      if (!line.empty() && std::stoll(line.substr(0, line.find(','))) <= last) kept.push_back(line);
+    }
+  }
+  in.close();
+  std::ofstream out(path, std::ios::trunc);
+  for (const auto& row : kept) out << row << '\n';
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+constexpr const char* kEpisodeHeader = "episode,env_steps,environment,seed,reward,steps,success";
+constexpr const char* kUpdateHeader =
+    "update,env_steps,episodes,action_std,policy_loss,value_loss,entropy,approx_kl,"
+    "clip_fraction,explained_variance,epochs_run,mean_episode_reward,mean_episode_steps,"
+    "success_rate,steps_per_second,seconds,environment_seconds,inference_seconds,"
+    "optimisation_seconds";
+
+// The options that must match for a run to resume (total_steps may grow; threads and the
+// checkpoint interval do not change the result).
+nlohmann::json resumeKey(const PpoOptions& options) {
+  nlohmann::json key = options.toJson();
+  key.erase("total_steps");
+  return key;
+}
+
+// Everything one update's rollout keeps, [T * N] rows in time-major order (row = t * N + i).
+struct Rollout {
+  torch::Tensor features, inputs, rig, actions, log_probs, values, rewards, dones;
+  void allocate(int rows, int feature_size, int input_size, bool keep_inputs) {
+    features = torch::zeros({rows, feature_size});
+    if (keep_inputs) inputs = torch::zeros({rows, 4, input_size, input_size});
+    rig = torch::zeros({rows, kRigInputs});
+    actions = torch::zeros({rows, 2});
+    log_probs = torch::zeros({rows});
+    values = torch::zeros({rows});
+    rewards = torch::zeros({rows});
+    dones = torch::zeros({rows});
+  }
+};
+
+class PpoTrainer {
+ public:
+  PpoTrainer(const PpoOptions& options, int count, const VectorEnvironment::Factory& factory,
+             const ResetOptions& reset, const std::string& run_dir, const PpoCallbacks& callbacks)
+      : options_(options), count_(count), reset_(reset), run_dir_(run_dir), callbacks_(callbacks) {
+    options_.validate();
+    fs::create_directories(run_dir_);
+    LoadedModel pretrained = loadModel(options_.backbone_path);
+    input_size_ = pretrained.network->config().input_size;
+    policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
+    policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
+    policy_->eval();  // BatchNorm keeps the pretrained statistics, fine-tuned or not
+    if (!options_.fine_tune) {
+      for (auto& p : policy_->backbone()->parameters()) p.set_requires_grad(false);
+    }
+    actor_optimizer_ = std::make_unique<torch::optim::Adam>(
+        policy_->actorParameters(), torch::optim::AdamOptions(options_.actor_learning_rate));
+    critic_optimizer_ = std::make_unique<torch::optim::Adam>(
+        policy_->criticParameters(), torch::optim::AdamOptions(options_.critic_learning_rate));
+    if (options_.fine_tune) {
+      backbone_optimizer_ = std::make_unique<torch::optim::Adam>(
+          policy_->backbone()->parameters(),
+          torch::optim::AdamOptions(options_.backbone_learning_rate));
+    }
+    progress_.random.seed(options_.seed);
+    resume();
+
+    inputs_ = torch::zeros({count_, 4, input_size_, input_size_});
+    rig_ = torch::zeros({count_, kRigInputs});
+    last_moves_.assign(count_, Action{});
+    scratch_.resize(count_);
+    episodes_.resize(count_);
+    environments_ = std::make_unique<VectorEnvironment>(
+        count_, factory, [this](int i, const StepResult& result) { observe(i, result); });
+  }
+
+  PolicyNetwork run() {
+    const int steps_per_env = (options_.steps_per_update + count_ - 1) / count_;
+    const int feature_size = policy_->backbone()->config().bottleneckChannels();
+    Rollout rollout;
+    rollout.allocate(steps_per_env * count_, feature_size, input_size_, options_.fine_tune);
+    std::vector<VectorRequest> requests(count_);
+    for (int i = 0; i < count_; ++i) requests[i] = resetRequest(i);
+    environments_->run(requests);
+    torch::Tensor features = encode(inputs_);
+
+    const auto start = std::chrono::steady_clock::now();
+    const std::int64_t start_steps = progress_.env_steps;
+    while (progress_.env_steps < options_.total_steps) {
+      const double std = actionStd();
+      ended_.clear();
+      environment_seconds_ = inference_seconds_ = 0.0;
+      for (int t = 0; t < steps_per_env; ++t) {
+        features = collectStep(t, std, features, rollout, requests);
+      }
+      torch::Tensor last_values;
+      {
+        torch::NoGradGuard no_grad;
+        last_values = policy_->value(features, rig_);
+      }
+      const auto optimisation_start = Clock::now();
+      PpoUpdate update = optimise(rollout, last_values, steps_per_env, std);
+      update.optimisation_seconds = secondsSince(optimisation_start);
+      update.environment_seconds = environment_seconds_;
+      update.inference_seconds = inference_seconds_;
+      ++progress_.updates;
+      update.update = progress_.updates;
+      update.env_steps = progress_.env_steps;
+      update.episodes = progress_.episodes;
+      update.action_std = std;
+      summariseEpisodes(update);
+      update.seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      update.steps_per_second = (progress_.env_steps - start_steps) / update.seconds;
+      appendUpdate(update);
+      if (callbacks_.on_update) callbacks_.on_update(update);
+      if (progress_.updates % options_.checkpoint_every == 0) checkpoint();
+    }
+    checkpoint();
+    nlohmann::json info = {{"trained_with", options_.toJson()},
+                           {"env_steps", progress_.env_steps},
+                           {"episodes", progress_.episodes},
+                           {"updates", progress_.updates}};
+    savePolicy(policy_, (fs::path(run_dir_) / "policy.pt").string(), info);
+    return policy_;
+  }
+
+ private:
+  double actionStd() const {
+    const double done = std::min(1.0, double(progress_.env_steps) / double(options_.total_steps));
+    return options_.action_std + (options_.action_std_end - options_.action_std) * done;
+  }
+
+  std::uint64_t nextSeed() {
+    return std::uniform_int_distribution<std::uint64_t>(0,
+                                                        kFirstValidationSeed - 1)(progress_.random);
+  }
+
+  VectorRequest resetRequest(int i) {
+    last_moves_[i] = Action{};
+    episodes_[i] = PpoEpisode{};
+    episodes_[i].environment = i;
+    episodes_[i].seed = nextSeed();
+    return VectorRequest::resetTo(episodes_[i].seed, reset_);
+  }
+
+  // On environment i's thread: its observation into batch row i.
+  void observe(int i, const StepResult& result) {
+    const std::size_t plane = 4 * static_cast<std::size_t>(input_size_) * input_size_;
+    writeNetworkInput(result.observation->rgb, result.observation->depth, input_size_, scratch_[i],
+                      inputs_.data_ptr<float>() + i * plane);
+    writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
+                  rig_.data_ptr<float>() + i * kRigInputs);
+  }
+
+  torch::Tensor encode(const torch::Tensor& inputs) {
+    const auto start = Clock::now();
+    torch::NoGradGuard no_grad;
+    torch::Tensor features = policy_->features(inputs);
+    inference_seconds_ += secondsSince(start);
+    return features;
+  }
+
+  void runEnvironments(const std::vector<VectorRequest>& requests) {
+    const auto start = Clock::now();
+    environments_->run(requests);
+    environment_seconds_ += secondsSince(start);
+  }
+
+  // One step of every environment: sample, store, step, bootstrap truncations, reset ended
+  // episodes. Returns the features of the next observations.
+  torch::Tensor collectStep(int t, double std, const torch::Tensor& features, Rollout& rollout,
+                            std::vector<VectorRequest>& requests) {
+    torch::Tensor mean, values;
+    {
+      const auto start = Clock::now();
+      torch::NoGradGuard no_grad;
+      mean = policy_->actionMean(features, rig_);
+      values = policy_->value(features, rig_);
+      inference_seconds_ += secondsSince(start);
+    }
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    torch::Tensor actions = torch::empty({count_, 2});
+    {
+      auto in = mean.accessor<float, 2>();
+      auto out = actions.accessor<float, 2>();
+      for (int i = 0; i < count_; ++i) {
+        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + float(std) * noise(progress_.random);
+      }
+    }
+    const auto rows = torch::indexing::Slice(t * count_, (t + 1) * count_);
+    rollout.features.index_put_({rows}, features);
+    if (options_.fine_tune) rollout.inputs.index_put_({rows}, inputs_);
+    rollout.rig.index_put_({rows}, rig_);
+    rollout.actions.index_put_({rows}, actions);
+    rollout.log_probs.index_put_({rows}, gaussianLogProbability(actions, mean, std));
+    rollout.values.index_put_({rows}, values);
+
+    {
+      auto chosen = actions.accessor<float, 2>();
+      for (int i = 0; i < count_; ++i) {
+        last_moves_[i] = {chosen[i][0], chosen[i][1]};
+        requests[i] = VectorRequest::stepBy(last_moves_[i]);
+      }
+    }
+    runEnvironments(requests);
+    progress_.env_steps += count_;
+    torch::Tensor next_features = encode(inputs_);
+
+    bool any_ended = false;
+    for (int i = 0; i < count_; ++i) {
+      const StepResult& result = environments_->result(i);
+      double reward = result.reward;
+      PpoEpisode& episode = episodes_[i];
+      episode.reward += result.reward;
+      ++episode.steps;
+      const bool ended = result.terminated || result.truncated;
+      if (result.truncated && !result.terminated) {
+        // Time ran out, not the task: bootstrap with the value of where the episode stopped.
+        torch::NoGradGuard no_grad;
+        reward += options_.gamma *
+                  policy_->value(next_features.slice(0, i, i + 1), rig_.slice(0, i, i + 1))
+                      .item<double>();
+      }
+      rollout.rewards[t * count_ + i] = reward;
+      rollout.dones[t * count_ + i] = ended ? 1.0f : 0.0f;
+      requests[i] = VectorRequest::idle();
+      if (ended) {
+        episode.success = result.terminated;
+        episode.index = ++progress_.episodes;
+        episode.env_steps = progress_.env_steps;
+        appendEpisode(episode);
+        ended_.push_back(episode);
+        if (callbacks_.on_episode) callbacks_.on_episode(episode);
+        requests[i] = resetRequest(i);
+        any_ended = true;
+      }
+    }
+    if (any_ended) {
+      runEnvironments(requests);
+      next_features = encode(inputs_);
+    }
+    return next_features;
+  }
+
+  PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
+                     double std) {
+    // GAE over each environment's time line.
+    const int rows = steps_per_env * count_;
+    torch::Tensor advantages = torch::zeros({rows});
+    {
+      auto values = rollout.values.accessor<float, 1>();
+      auto rewards = rollout.rewards.accessor<float, 1>();
+      auto dones = rollout.dones.accessor<float, 1>();
+      auto last = last_values.accessor<float, 1>();
+      auto out = advantages.accessor<float, 1>();
+      for (int i = 0; i < count_; ++i) {
+        double gae = 0.0;
+        for (int t = steps_per_env - 1; t >= 0; --t) {
+          const int row = t * count_ + i;
+          const double next_value =
+              dones[row] > 0.5f ? 0.0 : (t + 1 < steps_per_env ? values[row + count_] : last[i]);
+          const double delta = rewards[row] + options_.gamma * next_value - values[row];
+          gae = delta + (dones[row] > 0.5f ? 0.0 : options_.gamma * options_.gae_lambda * gae);
+          out[row] = static_cast<float>(gae);
+        }
+      }
+    }
+    const torch::Tensor returns = advantages + rollout.values;
+    if (options_.normalize_advantages) {
+      advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
+    }
+
+    PpoUpdate update;
+    update.entropy = gaussianEntropy(std);
+    std::vector<int64_t> order(rows);
+    std::iota(order.begin(), order.end(), 0);
+    const int minibatch = std::min(options_.minibatch_size, rows);
+    double kl_sum = 0.0, clip_sum = 0.0, policy_sum = 0.0, value_sum = 0.0;
+    int batches = 0;
+    for (int epoch = 0; epoch < options_.epochs; ++epoch) {
+      std::shuffle(order.begin(), order.end(), progress_.random);
+      double epoch_kl = 0.0;
+      int epoch_batches = 0;
+      for (int first = 0; first + minibatch <= rows; first += minibatch) {
+        const torch::Tensor index =
+            torch::from_blob(order.data() + first, {minibatch}, torch::kLong).clone();
+        const torch::Tensor features =
+            options_.fine_tune ? policy_->features(rollout.inputs.index_select(0, index))
+                               : rollout.features.index_select(0, index);
+        const torch::Tensor rig = rollout.rig.index_select(0, index);
+        const torch::Tensor mean = policy_->actionMean(features, rig);
+        const torch::Tensor log_ratio =
+            gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
+            rollout.log_probs.index_select(0, index);
+        const torch::Tensor ratio = log_ratio.exp();
+        const torch::Tensor advantage = advantages.index_select(0, index);
+        const torch::Tensor surrogate = torch::min(
+            ratio * advantage,
+            ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
+        const torch::Tensor policy_loss =
+            -surrogate.mean() - options_.entropy_coefficient * update.entropy;
+        const torch::Tensor value_error =
+            policy_->value(features, rig) - returns.index_select(0, index);
+        const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
+
+        actor_optimizer_->zero_grad();
+        critic_optimizer_->zero_grad();
+        if (backbone_optimizer_) backbone_optimizer_->zero_grad();
+        (policy_loss + value_loss).backward();
+        if (options_.max_grad_norm > 0) {
+          torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
+          torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
+          if (backbone_optimizer_) {
+            torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
+                                              options_.max_grad_norm);
+          }
+        }
+        actor_optimizer_->step();
+        critic_optimizer_->step();
+        if (backbone_optimizer_) backbone_optimizer_->step();
+
+        torch::NoGradGuard no_grad;
+        const double kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
+        epoch_kl += kl;
+        ++epoch_batches;
+        kl_sum += kl;
+        clip_sum +=
+            ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
+        policy_sum += policy_loss.item<double>();
+        value_sum += value_loss.item<double>();
+        ++batches;
+      }
+      update.epochs_run = epoch + 1;
+      if (options_.target_kl > 0 && epoch_batches > 0 &&
+          epoch_kl / epoch_batches > 1.5 * options_.target_kl) {
+        break;
+      }
+    }
+    update.policy_loss = policy_sum / std::max(1, batches);
+    update.value_loss = value_sum / std::max(1, batches);
+    update.approx_kl = kl_sum / std::max(1, batches);
+    update.clip_fraction = clip_sum / std::max(1, batches);
+    const double return_variance = returns.var().item<double>();
+    update.explained_variance =
+        return_variance > 0
+            ? 1.0 - (returns - rollout.values).var().item<double>() / return_variance
+            : std::numeric_limits<double>::quiet_NaN();
+    return update;
+  }
+
+  void summariseEpisodes(PpoUpdate& update) const {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    update.mean_episode_reward = update.mean_episode_steps = update.success_rate = nan;
+    if (ended_.empty()) return;
+    double reward = 0.0, steps = 0.0, successes = 0.0;
+    for (const auto& e : ended_) {
+      reward += e.reward;
+      steps += e.steps;
+      successes += e.success ? 1.0 : 0.0;
+    }
+    update.mean_episode_reward = reward / ended_.size();
+    update.mean_episode_steps = steps / ended_.size();
+    update.success_rate = successes / ended_.size();
+  }
+
+  void appendEpisode(const PpoEpisode& e) {
+    std::ofstream out(fs::path(run_dir_) / "episodes.csv", std::ios::app);
+    out << e.index << ',' << e.env_steps << ',' << e.environment << ',' << e.seed << ',' << e.reward
+        << ',' << e.steps << ',' << (e.success ? 1 : 0) << '\n';
+  }
+
+  void appendUpdate(const PpoUpdate& u) {
+    std::ofstream out(fs::path(run_dir_) / "updates.csv", std::ios::app);
+    out << u.update << ',' << u.env_steps << ',' << u.episodes << ',' << u.action_std << ','
+        << u.policy_loss << ',' << u.value_loss << ',' << u.entropy << ',' << u.approx_kl << ','
+        << u.clip_fraction << ',' << u.explained_variance << ',' << u.epochs_run << ','
+        << u.mean_episode_reward << ',' << u.mean_episode_steps << ',' << u.success_rate << ','
+        << u.steps_per_second << ',' << u.seconds << ',' << u.environment_seconds << ','
+        << u.inference_seconds << ',' << u.optimisation_seconds << '\n';
+  }
+
+  void checkpoint() {
+    const fs::path dir(run_dir_);
+    torch::serialize::OutputArchive archive, model, actor, critic, backbone;
+    policy_->save(model);
+    actor_optimizer_->save(actor);
+    critic_optimizer_->save(critic);
+    archive.write("policy", model);
+    archive.write("actor_optimizer", actor);
+    archive.write("critic_optimizer", critic);
+    if (backbone_optimizer_) {
+      backbone_optimizer_->save(backbone);
+      archive.write("backbone_optimizer", backbone);
+    }
+    archive.save_to((dir / "checkpoint.pt.tmp").string());
+    std::ostringstream random;
+    random << progress_.random;
+    const nlohmann::json state = {{"options", resumeKey(options_)},
+                                  {"updates", progress_.updates},
+                                  {"env_steps", progress_.env_steps},
+                                  {"episodes", progress_.episodes},
+                                  {"random", random.str()}};
+    {
+      std::ofstream out(dir / "checkpoint.json.tmp");
+      out << state.dump(2) << '\n';
+      if (!out) throw std::runtime_error("cannot write " + (dir / "checkpoint.json.tmp").string());
+    }
+    fs::rename(dir / "checkpoint.pt.tmp", dir / "checkpoint.pt");
+    fs::rename(dir / "checkpoint.json.tmp", dir / "checkpoint.json");
+  }
+
+  void resume() {
+    const fs::path dir(run_dir_);
+    if (!fs::exists(dir / "checkpoint.pt") || !fs::exists(dir / "checkpoint.json")) {
+      trimCsv(dir / "episodes.csv", kEpisodeHeader, 0);
+      trimCsv(dir / "updates.csv", kUpdateHeader, 0);
+      return;
+    }
+    std::ifstream in(dir / "checkpoint.json");
+    const nlohmann::json state = nlohmann::json::parse(in);
+    if (state.at("options") != resumeKey(options_)) {
+      throw InvalidArgumentError("the checkpoint in " + run_dir_ +
+                                 " was made with other options (" + state.at("options").dump() +
+                                 "): use another run directory or the same options");
+    }
+    torch::serialize::InputArchive archive, model, actor, critic;
+    archive.load_from((dir / "checkpoint.pt").string());
+    archive.read("policy", model);
+    archive.read("actor_optimizer", actor);
+    archive.read("critic_optimizer", critic);
+    policy_->load(model);
+    actor_optimizer_->load(actor);
+    critic_optimizer_->load(critic);
+    if (backbone_optimizer_) {
+      torch::serialize::InputArchive backbone;
+      archive.read("backbone_optimizer", backbone);
+      backbone_optimizer_->load(backbone);
+    }
+    progress_.updates = state.at("updates").get<int>();
+    progress_.env_steps = state.at("env_steps").get<std::int64_t>();
+    progress_.episodes = state.at("episodes").get<std::int64_t>();
+    std::istringstream random(state.at("random").get<std::string>());
+    random >> progress_.random;
+    trimCsv(dir / "episodes.csv", kEpisodeHeader, progress_.episodes);
+    trimCsv(dir / "updates.csv", kUpdateHeader, progress_.updates);
+  }
+
+  PpoOptions options_;
+  int count_;
+  ResetOptions reset_;
+  std::string run_dir_;
+  PpoCallbacks callbacks_;
+  int input_size_ = 64;
+  PolicyNetwork policy_{nullptr};
+  std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
+  Progress progress_;
+  torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
+  std::vector<Action> last_moves_;
+  std::vector<InputScratch> scratch_;
+  std::vector<PpoEpisode> episodes_;  // in flight, per environment
+  std::vector<PpoEpisode> ended_;     // in this update
+  std::unique_ptr<VectorEnvironment> environments_;
+  double environment_seconds_ = 0.0, inference_seconds_ = 0.0;  // in the current update
+};
+
+}  // namespace
+
+PolicyNetwork trainPpo(const PpoOptions& options, int environment_count,
+                       const VectorEnvironment::Factory& factory, const ResetOptions& reset,
+                       const std::string& run_dir, const PpoCallbacks& callbacks) {
+  torch::set_num_threads(options.threads > 0
+                             ? options.threads
+                             : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
+  torch::manual_seed(options.seed);
+  PpoTrainer trainer(options, environment_count, factory, reset, run_dir, callbacks);
+  return trainer.run();
+}
+
+}  // namespace learning
+}  // namespace occlusion_env

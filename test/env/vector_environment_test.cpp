@@ -1,0 +1,100 @@
+// N environments on their own threads give what the same environments give one after another,
+// the observer sees every answer on the environment's thread, and errors name the environment.
+#include "occlusion_env/env/vector_environment.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <thread>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
+
+namespace occlusion_env {
+namespace {
+
+EnvironmentOptions smallOptions() {
+  EnvironmentOptions options;  // embedded objects
+  options.width = 96;
+  options.height = 96;
+  options.max_steps = 6;
+  return options;
+}
+
+VectorEnvironment::Factory inProcess() {
+  return [](int) { return std::make_unique<Environment>(smallOptions()); };
+}
+
+bool sameImage(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() &&
+         std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+}
+
+TEST(VectorEnvironmentTest, ThreadsGiveWhatOneEnvironmentGivesInTurn) {
+  constexpr int kCount = 3;
+  std::vector<std::thread::id> observed(kCount);
+  std::atomic<int> observations{0};
+  VectorEnvironment envs(kCount, inProcess(), [&](int i, const StepResult& result) {
+    ASSERT_NE(result.observation, nullptr);
+    observed[i] = std::this_thread::get_id();
+    ++observations;
+  });
+  ASSERT_EQ(envs.size(), kCount);
+  EXPECT_EQ(envs.describe(1), "in-process simulator");
+
+  Environment reference(smallOptions());
+  std::vector<VectorRequest> requests;
+  for (int i = 0; i < kCount; ++i) requests.push_back(VectorRequest::resetTo(40 + i));
+  envs.run(requests);
+  EXPECT_EQ(observations.load(), kCount);
+  for (int i = 0; i < kCount; ++i) EXPECT_NE(observed[i], std::this_thread::get_id());
+
+  for (int step = 0; step < 4; ++step) {
+    for (int i = 0; i < kCount; ++i) {
+      requests[i] = VectorRequest::stepBy({0.3 * (i + 1), 0.1 * step});
+    }
+    requests[1] = VectorRequest::idle();  // environment 1 waits this round
+    envs.run(requests);
+  }
+  // Replay each environment's history on one environment and compare the final views.
+  for (int i = 0; i < kCount; ++i) {
+    StepResult expected = reference.reset(40 + i);
+    if (i != 1) {
+      for (int step = 0; step < 4; ++step) expected = reference.step({0.3 * (i + 1), 0.1 * step});
+    }
+    const StepResult& actual = envs.result(i);
+    EXPECT_EQ(actual.info.step_index, expected.info.step_index) << i;
+    EXPECT_EQ(actual.info.occlusion.total_pixels, expected.info.occlusion.total_pixels);
+    EXPECT_DOUBLE_EQ(actual.reward, expected.reward) << i;
+    EXPECT_TRUE(sameImage(actual.observation->rgb, expected.observation->rgb)) << i;
+    EXPECT_TRUE(sameImage(actual.observation->depth, expected.observation->depth)) << i;
+  }
+}
+
+TEST(VectorEnvironmentTest, AnErrorNamesTheEnvironmentAndKeepsTheOthersState) {
+  VectorEnvironment envs(2, inProcess());
+  envs.run({VectorRequest::resetTo(7), VectorRequest::idle()});
+  // Environment 1 has no episode: its step is refused with the core's exception type.
+  try {
+    envs.run({VectorRequest::stepBy({1.0, 0.0}), VectorRequest::stepBy({1.0, 0.0})});
+    FAIL() << "a step before any reset was accepted";
+  } catch (const InvalidStateError& error) {
+    EXPECT_NE(std::string(error.what()).find("environment 1"), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(envs.result(0).info.step_index, 1);  // environment 0's step went through
+  EXPECT_THROW(envs.run({VectorRequest::idle()}), InvalidArgumentError);  // wrong count
+}
+
+TEST(VectorEnvironmentTest, AFactoryErrorReachesTheCaller) {
+  EXPECT_THROW(VectorEnvironment(2,
+                                 [](int i) -> std::unique_ptr<EnvironmentInterface> {
+                                   if (i == 1) throw InvalidArgumentError("no camera here");
+                                   return std::make_unique<Environment>(smallOptions());
+                                 }),
+               InvalidArgumentError);
+  EXPECT_THROW(VectorEnvironment(0, inProcess()), InvalidArgumentError);
+}
+
+}  // namespace
+}  // namespace occlusion_env

@@ -1,0 +1,231 @@
+// PPO: a short training on two in-process environments runs, logs every update and episode,
+// checkpoints, resumes after an interruption, repeats itself with the same seed, and writes a
+// policy the agents load; the actor starts as the escape head; policy files are checked.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "learning/temporary_dir.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/policy.hpp"
+#include "occlusion_env/learning/ppo.hpp"
+
+namespace occlusion_env {
+namespace learning {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> csvRows(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> rows;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) rows.push_back(line);
+  return rows;
+}
+
+// A small untrained multi-task network as the backbone (32 px input).
+std::string writeBackbone(const fs::path& dir) {
+  fs::create_directories(dir);
+  torch::manual_seed(3);
+  NetworkConfig config;
+  config.input_size = 32;
+  MultiTaskUNet network(config);
+  const std::string path = (dir / "backbone.pt").string();
+  saveModel(network, path, {{"purpose", "ppo_test"}});
+  return path;
+}
+
+EnvironmentOptions smallEnvironment() {
+  EnvironmentOptions options;  // embedded objects
+  options.width = options.height = 64;
+  options.max_steps = 8;
+  return options;
+}
+
+VectorEnvironment::Factory inProcess() {
+  return [](int) { return std::make_unique<Environment>(smallEnvironment()); };
+}
+
+PpoOptions shortRun(const std::string& backbone) {
+  PpoOptions options;
+  options.backbone_path = backbone;
+  options.total_steps = 48;
+  options.steps_per_update = 16;  // 8 steps of each of the 2 environments
+  options.epochs = 3;
+  options.minibatch_size = 8;
+  options.threads = 1;
+  options.checkpoint_every = 1;
+  return options;
+}
+
+bool sameParameters(PolicyNetwork& a, PolicyNetwork& b) {
+  auto b_parameters = b->named_parameters();
+  for (const auto& item : a->named_parameters()) {
+    if (!torch::equal(item.value(), b_parameters[item.key()])) return false;
+  }
+  return true;
+}
+
+TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo");
+  const std::string backbone = writeBackbone(dir);
+  const PpoOptions options = shortRun(backbone);
+
+  int updates_seen = 0, episodes_seen = 0;
+  PpoCallbacks count;
+  count.on_update = [&](const PpoUpdate& u) {
+    ++updates_seen;
+    EXPECT_EQ(u.env_steps, 16 * u.update);
+    EXPECT_GT(u.steps_per_second, 0.0);
+    EXPECT_TRUE(std::isfinite(u.policy_loss) && std::isfinite(u.value_loss));
+    EXPECT_GE(u.epochs_run, 1);
+  };
+  count.on_episode = [&](const PpoEpisode& e) {
+    ++episodes_seen;
+    EXPECT_LT(e.seed, kFirstValidationSeed) << "training draws no validation or test scene";
+    EXPECT_GE(e.steps, 1);
+    EXPECT_LE(e.steps, 8);
+  };
+  const fs::path run = dir / "run";
+  PolicyNetwork trained = trainPpo(options, 2, inProcess(), {}, run.string(), count);
+  EXPECT_EQ(updates_seen, 3);
+  EXPECT_GE(episodes_seen, 2);
+  EXPECT_EQ(csvRows(run / "updates.csv").size(), 3u);
+  EXPECT_EQ(csvRows(run / "episodes.csv").size(), static_cast<std::size_t>(episodes_seen));
+  EXPECT_TRUE(fs::exists(run / "checkpoint.pt"));
+  EXPECT_TRUE(fs::exists(run / "checkpoint.json"));
+  ASSERT_TRUE(fs::exists(run / "policy.pt"));
+
+  // The same seed on the same machine (one thread): the same policy.
+  PolicyNetwork again = trainPpo(options, 2, inProcess(), {}, (dir / "again").string());
+  EXPECT_TRUE(sameParameters(trained, again)) << "the same seed gave another policy";
+
+  // Interrupted during its second update (after the first checkpoint), re-run: it resumes from
+  // the checkpoint and its logs hold each update once.
+  PpoCallbacks interrupt;
+  interrupt.on_update = [](const PpoUpdate& u) {
+    if (u.update == 2) throw std::runtime_error("interrupted");
+  };
+  const fs::path interrupted = dir / "interrupted";
+  EXPECT_THROW(trainPpo(options, 2, inProcess(), {}, interrupted.string(), interrupt),
+               std::runtime_error);
+  int resumed_updates = 0;
+  PpoCallbacks resumed;
+  resumed.on_update = [&](const PpoUpdate& u) {
+    EXPECT_EQ(u.update, 2 + resumed_updates);
+    ++resumed_updates;
+  };
+  trainPpo(options, 2, inProcess(), {}, interrupted.string(), resumed);
+  EXPECT_EQ(resumed_updates, 2);
+  const auto rows = csvRows(interrupted / "updates.csv");
+  ASSERT_EQ(rows.size(), 3u);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(rows[i].substr(0, 2), std::to_string(i + 1) + ",");
+
+  // A longer run in the same directory continues it; other options are refused.
+  PpoOptions longer = options;
+  longer.total_steps = 80;
+  updates_seen = 0;
+  trainPpo(longer, 2, inProcess(), {}, run.string(), count);
+  EXPECT_EQ(updates_seen, 2);
+  EXPECT_EQ(csvRows(run / "updates.csv").size(), 5u);
+  PpoOptions other = options;
+  other.clip_epsilon = 0.3;
+  EXPECT_THROW(trainPpo(other, 2, inProcess(), {}, run.string()), InvalidArgumentError);
+
+  // The policy runs as an agent (the generic entry, by path), deterministically.
+  Environment environment(smallEnvironment());
+  const StepResult start = environment.reset(1000000);
+  const AgentRegistry registry = learningAgents();
+  const auto agent = registry.make("policy", {environment, (run / "policy.pt").string()});
+  agent->reset(1);
+  const Action first = agent->act(*start.observation, start.info);
+  agent->reset(1);
+  const Action repeated = agent->act(*start.observation, start.info);
+  EXPECT_TRUE(std::isfinite(first.d_azimuth_rad) && std::isfinite(first.d_elevation_rad));
+  EXPECT_EQ(first.d_azimuth_rad, repeated.d_azimuth_rad);
+  EXPECT_EQ(first.d_elevation_rad, repeated.d_elevation_rad);
+  EXPECT_THROW(registry.make("policy", {environment, ""}), InvalidArgumentError)
+      << "the generic policy agent needs a model path";
+  fs::remove_all(dir);
+}
+
+TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
+  torch::manual_seed(5);
+  NetworkConfig config;
+  config.input_size = 32;
+  MultiTaskUNet network(config);
+  network->eval();
+  PolicyConfig free_mean;
+  free_mean.unit_mean = false;
+  PolicyNetwork policy(config, free_mean);
+  policy->initialiseFrom(network, /*actor_from_escape=*/true);
+  policy->eval();
+  torch::NoGradGuard no_grad;
+  const torch::Tensor input = torch::randn({3, 4, 32, 32});
+  const NetworkOutput out = network->forward(input);
+  const torch::Tensor features = policy->features(input);
+  EXPECT_TRUE(torch::allclose(features, out.features));
+  const torch::Tensor mean = policy->actionMean(features, torch::zeros({3, kRigInputs}));
+  // (d_azimuth, d_elevation) = (cos, sin) of the escape direction.
+  EXPECT_TRUE(torch::allclose(mean.select(1, 0), out.escape_direction.select(1, 1)));
+  EXPECT_TRUE(torch::allclose(mean.select(1, 1), out.escape_direction.select(1, 0)));
+  // With a unit mean the same direction at unit length.
+  PolicyConfig unit_config;
+  unit_config.unit_mean = true;
+  PolicyNetwork unit(config, unit_config);
+  unit->initialiseFrom(network, /*actor_from_escape=*/true);
+  const torch::Tensor unit_mean = unit->actionMean(features, torch::zeros({3, kRigInputs}));
+  EXPECT_TRUE(torch::allclose(unit_mean.norm(2, 1), torch::ones({3})));
+  EXPECT_TRUE(torch::allclose(unit_mean, mean / mean.norm(2, 1, true), 1e-4, 1e-5));
+
+  PolicyNetwork fresh(config, free_mean);
+  fresh->initialiseFrom(network, /*actor_from_escape=*/false);
+  EXPECT_LT(fresh->actionMean(features, torch::zeros({3, kRigInputs})).abs().max().item<float>(),
+            0.5f)
+      << "a fresh actor starts near the zero mean";
+}
+
+TEST(PpoTest, PolicyAndNetworkFilesAreNotMistakenForEachOther) {
+  const fs::path dir = temporaryDir("occlusion_env_policy_files");
+  const std::string backbone = writeBackbone(dir);
+  NetworkConfig config;
+  config.input_size = 32;
+  PolicyNetwork policy(config, PolicyConfig{});
+  const std::string policy_path = (dir / "policy.pt").string();
+  savePolicy(policy, policy_path, {});
+  EXPECT_NO_THROW(loadPolicy(policy_path));
+  const auto expectRefused = [](const std::function<void()>& load, const std::string& words) {
+    try {
+      load();
+      ADD_FAILURE() << "loaded";
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
+    }
+  };
+  expectRefused([&] { loadPolicy(backbone); }, "not a PPO policy");
+  expectRefused([&] { loadModel(policy_path); }, "not a multi-task network");
+  expectRefused([&] { loadPolicy((dir / "missing.pt").string()); }, "does not exist");
+  {
+    std::ifstream in(dir / "policy.json");
+    nlohmann::json manifest = nlohmann::json::parse(in);
+    manifest["policy"]["hidden"] = 32;
+    std::ofstream(dir / "policy.json") << manifest.dump();
+  }
+  expectRefused([&] { loadPolicy(policy_path); }, "does not match");
+  PpoOptions options;
+  options.backbone_path = backbone;
+  options.gamma = 1.5;
+  EXPECT_THROW(options.validate(), InvalidArgumentError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace learning
+}  // namespace occlusion_env
