@@ -18,6 +18,9 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
@@ -30,6 +33,7 @@
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/eval/sweep.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/render/visualization.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace fs = std::filesystem;
@@ -51,6 +55,9 @@ modes (one):
   --summarize CSV      summary and plots from an episode CSV of an earlier run
   --landscape FILE     occlusion L over the camera angles of the set's first scene, with each
                        agent's path on it (CSV and plot)
+  --strip FILE         frames of one episode of each agent (default gradient, predicted_escape)
+                       on a scene of the set, side by side (PNG): the first scene where the
+                       first agent fails and the last succeeds, else the set's first scene
   --all                the held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
                        with RESULTS.md in --out (and the --report document)
 options:
@@ -75,6 +82,7 @@ struct CommandLine {
   std::string sweep;
   std::string summarize;
   std::string landscape;
+  std::string strip;
   bool all = false;
   std::vector<std::string> agents;  // empty: the registry's competitors
   int max_steps = -1;               // -1: the mode's default
@@ -102,6 +110,8 @@ CommandLine parse(int argc, char** argv) {
       cl.summarize = args.text();
     } else if (arg == "--landscape") {
       cl.landscape = args.text();
+    } else if (arg == "--strip") {
+      cl.strip = args.text();
     } else if (arg == "--all") {
       cl.all = true;
     } else if (arg == "--agents") {
@@ -137,10 +147,10 @@ CommandLine parse(int argc, char** argv) {
     }
   }
   const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() +
-                    !cl.landscape.empty() + cl.all;
+                    !cl.landscape.empty() + !cl.strip.empty() + cl.all;
   if (modes != 1) {
     throw InvalidArgumentError(
-        "give exactly one of --scenes, --sweep, --summarize, --landscape, --all");
+        "give exactly one of --scenes, --sweep, --summarize, --landscape, --strip, --all");
   }
   if (!cl.report.empty() && !cl.all) throw InvalidArgumentError("--report needs --all");
   if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
@@ -361,6 +371,122 @@ std::string withLinkPrefix(const std::string& markdown, const std::string& prefi
   return std::regex_replace(markdown, kLocalLink, "](" + prefix + "$1)");
 }
 
+// One episode of each agent on one scene of the set, as rows of frames (the occlusion overlay:
+// occluded pixels red, each object's outline), up to kFrames per row evenly spaced from the
+// start view to the last. The scene: the first where the first agent fails and the last
+// succeeds, else the set's first. Returns the Markdown section; the PNG goes to --out.
+std::string runStrip(const CommandLine& cl, const std::string& scenes_path) {
+  constexpr int kFrames = 6;
+  constexpr int kFramePx = 160;
+  const SceneSet set = loadSceneSet(scenes_path);
+  requireDisjoint(set, kTrainingSeedRange);
+  if (set.seeds.empty()) throw InvalidArgumentError(scenes_path + ": no seeds");
+  const std::vector<std::string> agents =
+      cl.agents.size() >= 2 ? cl.agents : std::vector<std::string>{"gradient", "predicted_escape"};
+  const int max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  EnvironmentOptions options = environmentOptionsFor(set);
+  options.max_steps = max_steps;
+  Environment env(options);
+  std::vector<std::unique_ptr<Agent>> made;
+  for (const auto& name : agents) made.push_back(registry().make(name, {env, cl.model}));
+
+  struct Run {
+    EpisodeRecord record;
+    std::vector<cv::Mat> frames;  // overlays, one per view
+  };
+  cv::Rect view;  // where the objects are in any frame: every tile shows this square
+  const auto runOn = [&](std::uint64_t seed, bool keep_frames) {
+    std::vector<Run> runs(agents.size());
+    for (std::size_t a = 0; a < agents.size(); ++a) {
+      EpisodeRequest request;
+      request.agent = agents[a];
+      request.scene_set = set.name;
+      request.seed = seed;
+      request.reset = resetOptionsFor(set);
+      EpisodeRunOptions run_options;
+      run_options.max_steps = max_steps;
+      if (keep_frames) {
+        run_options.on_result = [&, a](const StepResult& result) {
+          const Observation& o = *result.observation;
+          runs[a].frames.push_back(occlusionOverlay(o.rgb, o.amodal_bits, o.occlusion_mask,
+                                                    static_cast<int>(env.scene().objects.size())));
+          const cv::Rect objects = cv::boundingRect(o.amodal_bits);
+          if (objects.area() > 0) view = view.area() > 0 ? (view | objects) : objects;
+        };
+      }
+      runs[a].record = runEpisode(env, *made[a], request, run_options);
+      if (!runs[a].record.completed()) {
+        throw std::runtime_error(agents[a] + ": " + runs[a].record.message);
+      }
+    }
+    return runs;
+  };
+  std::uint64_t seed = set.seeds.front();
+  for (const std::uint64_t candidate : set.seeds) {
+    const std::vector<Run> runs = runOn(candidate, false);
+    if (!runs.front().record.success() && runs.back().record.success()) {
+      seed = candidate;
+      break;
+    }
+  }
+  const std::vector<Run> runs = runOn(seed, true);
+  {
+    const int side = std::max(view.width, view.height) * 11 / 10 + 8;
+    const cv::Point centre(view.x + view.width / 2, view.y + view.height / 2);
+    const cv::Rect image(0, 0, options.width, options.height);
+    view = cv::Rect(centre.x - side / 2, centre.y - side / 2, side, side) & image;
+  }
+
+  std::vector<cv::Mat> rows;
+  for (std::size_t a = 0; a < runs.size(); ++a) {
+    const auto& frames = runs[a].frames;
+    std::vector<cv::Mat> tiles;
+    const int count = std::min<int>(kFrames, static_cast<int>(frames.size()));
+    for (int k = 0; k < count; ++k) {
+      const int t =
+          count == 1
+              ? 0
+              : static_cast<int>(std::lround(double(k) * (frames.size() - 1) / double(count - 1)));
+      cv::Mat tile;
+      cv::resize(frames[t](view), tile, cv::Size(kFramePx, kFramePx), 0, 0, cv::INTER_AREA);
+      cv::cvtColor(tile, tile, cv::COLOR_RGB2BGR);
+      const std::string label = agents[a] + " t=" + std::to_string(t);
+      cv::putText(tile, label, {4, 14}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {255, 255, 255}, 1,
+                  cv::LINE_AA);
+      tiles.push_back(tile);
+    }
+    while (static_cast<int>(tiles.size()) < kFrames) {
+      tiles.push_back(cv::Mat(kFramePx, kFramePx, CV_8UC3, cv::Scalar(255, 255, 255)));
+    }
+    cv::Mat row;
+    cv::hconcat(tiles, row);
+    rows.push_back(row);
+  }
+  cv::Mat strip;
+  cv::vconcat(rows, strip);
+  const std::string png = set.name + "_strip_" + std::to_string(seed) + ".png";
+  if (!cv::imwrite((fs::path(cl.out) / png).string(), strip)) {
+    throw std::runtime_error("cannot write " + (fs::path(cl.out) / png).string());
+  }
+  std::ostringstream md;
+  md << "## One held-out episode, frame by frame\n\n"
+     << "Scene " << seed << " of `" << set.name
+     << "` (the first of the set where the first agent fails and the last succeeds), from the "
+        "same start view: each row is one agent's episode, "
+     << kFrames
+     << " frames evenly spaced from the start view (t = 0) to the last; occluded pixels red, "
+        "each object's full outline in its colour.";
+  for (const Run& run : runs) {
+    md << " " << run.record.agent << ": "
+       << (run.record.success()
+               ? std::to_string(run.record.steps) + " steps, unoccluded."
+               : "still occluded after " + std::to_string(run.record.steps) + " steps.");
+  }
+  md << "\n\n![" << agents.front() << " and " << agents.back() << ", frame by frame](" << png
+     << ")\n";
+  return md.str();
+}
+
 // The shipped PPO policies (models/*.json of kind ppo_policy): recipe, training length, the end
 // of their training curves and their validation figures.
 std::string policySection(const CommandLine& cl) {
@@ -475,6 +601,7 @@ void runAll(const CommandLine& cl) {
     sections += "## Held-out scene set `" + std::string(set) + "`\n" +
                 summary.substr(summary.find('\n') + 1) + "\n";
   }
+  sections += runStrip(cl, cl.source_dir + "/config/scenes/test_sweethome3d.yaml") + "\n";
   sections += runLandscape(cl, cl.source_dir + "/config/scenes/test_embedded.yaml") + "\n";
   for (const char* preset : {"two_chairs", "two_tables"}) {
     CommandLine sweep_cl = cl;
@@ -513,6 +640,9 @@ int main(int argc, char** argv) {
     } else if (!cl.landscape.empty()) {
       const std::string markdown = runLandscape(cl, cl.landscape);
       std::ofstream(fs::path(cl.out) / "landscape.md") << markdown;
+    } else if (!cl.strip.empty()) {
+      const std::string markdown = runStrip(cl, cl.strip);
+      std::ofstream(fs::path(cl.out) / "strip.md") << markdown;
     } else if (!cl.summarize.empty()) {
       const auto records = readEpisodeCsv(cl.summarize);
       if (records.empty()) throw InvalidArgumentError(cl.summarize + " holds no episodes");
