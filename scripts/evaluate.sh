@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Regenerates EVALUATION.md and its tables and plots from scratch: both 50-scene held-out sets
-# (Table 4/5 layouts) and the two start-azimuth sweeps (Figure 5), with CSVs and PNGs in
-# doc/evaluation/. Needs the built workspace (make build), jags and python3-matplotlib.
+# Regenerates EVALUATION.md and its tables and plots from scratch: the held-out sets (Table 4/5
+# layouts) and the two start-azimuth sweeps (Figure 5), with CSVs and PNGs in doc/evaluation/;
+# then runs every agent but the oracle through the ROS nodes on test_sweethome3d and fails unless
+# each episode equals its in-process run (scripts/check_through_ros.sh; a line in the report).
+# Needs the built workspace (make build), jags and python3-matplotlib.
 # Usage: scripts/evaluate.sh [OUT_DIR] [extra occlusion_eval options, e.g. --agents random,gradient]
 # With an OUT_DIR other than doc/evaluation, EVALUATION.md is left alone (the report goes to
 # OUT_DIR/EVALUATION.md).
@@ -18,4 +20,6 @@ report="$root/EVALUATION.md"
 [[ "$(realpath -m "$out")" == "$root/doc/evaluation" ]] || report="$out/EVALUATION.md"
 rm -rf "$out"
 mkdir -p "$out"
-exec "$evaluator" --all --out "$out" --report "$report" --source-dir "$root" "$@"
+"$evaluator" --all --out "$out" --report "$report" --source-dir "$root" "$@"
+"$root/scripts/check_through_ros.sh" "$root/config/scenes/test_sweethome3d.yaml" \
+    "$out/test_sweethome3d_episodes.csv" "$report"
