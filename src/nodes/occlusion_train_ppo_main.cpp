@@ -33,7 +33,8 @@ resume); RUN_DIR/policy.pt (+ .json) is the final policy (agent `policy`, ~model
 Environments:
   --envs N | ros:NS,NS,...  N in-process simulators, each on its own thread (default 2), or the
                          simulators under these ROS namespaces (launch/simulators.launch), which
-                         must be set up alike: reward_normalization as --reward, model_split train
+                         must be set up alike: reward_normalization as --reward; one whose
+                         occlusion_sim/model_split is not train is refused
   --source S             in-process object source: sweethome3d | embedded (default sweethome3d)
   --categories A,B       in-process categories (default chair,table; "any" = all)
   --resolution N         in-process image size [px] (default 256, as the evaluation)
@@ -234,9 +235,17 @@ int main(int argc, char** argv) {
     std::string where;
     if (cl.envs.rfind("ros:", 0) == 0) {
       const std::vector<std::string> namespaces = tools::splitList("--envs", cl.envs.substr(4));
-      ros::init(argc, argv, "occlusion_train_ppo", ros::init_options::AnonymousName);
+      // Ctrl-C ends the process at once (the run resumes from its last checkpoint).
+      ros::init(argc, argv, "occlusion_train_ppo",
+                ros::init_options::AnonymousName | ros::init_options::NoSigintHandler);
       count = static_cast<int>(namespaces.size());
       factory = [namespaces](int i) {
+        // Held out means held out: a simulator that may draw test-split models is refused.
+        if (!requireTrainSplit(namespaces[i])) {
+          std::cerr << "occlusion_train_ppo: WARNING: " << namespaces[i]
+                    << "/occlusion_sim/model_split is not set: cannot check that it draws only "
+                       "train-split models\n";
+        }
         auto client = std::make_unique<EnvironmentClient>(
             ros::NodeHandle(ros::NodeHandle(namespaces[i]), "occlusion"));
         client->connect();

@@ -19,6 +19,19 @@ std::string seconds(double value) {
 
 }  // namespace
 
+bool requireTrainSplit(const std::string& ns) {
+  const std::string parameter = ns + "/occlusion_sim/model_split";
+  std::string split;
+  if (!ros::param::get(parameter, split)) return false;
+  if (split != "train") {
+    throw InvalidArgumentError("the simulator under " + ns + " draws models of the split '" +
+                               split +
+                               "', test-split models included: start it with model_split:=train "
+                               "(launch/simulators.launch does by default)");
+  }
+  return true;
+}
+
 EnvironmentClient::EnvironmentClient(ros::NodeHandle node, const EnvironmentClientOptions& options)
     : node_(std::move(node)),
       options_(options),

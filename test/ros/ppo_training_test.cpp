@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/policy.hpp"
 #include "occlusion_env/learning/ppo.hpp"
@@ -44,6 +45,7 @@ TEST(PpoOverRos, TrainsAFewUpdatesOnTwoSimulators) {
   options.threads = 1;
   std::vector<std::string> described(namespaces.size());
   const auto factory = [&](int i) {
+    EXPECT_TRUE(requireTrainSplit(namespaces[i])) << "the launch file sets model_split";
     EnvironmentClientOptions client_options;
     client_options.service_timeout_s = 30.0;
     auto client = std::make_unique<EnvironmentClient>(
@@ -79,6 +81,12 @@ TEST(PpoOverRos, TrainsAFewUpdatesOnTwoSimulators) {
   EXPECT_TRUE(fs::exists(run / "checkpoint.pt"));
   EXPECT_NO_THROW(learning::loadPolicy((run / "policy.pt").string()));
   fs::remove_all(dir);
+}
+
+TEST(PpoOverRos, ASimulatorThatMayDrawTestModelsIsRefused) {
+  ros::param::set("/all_models/occlusion_sim/model_split", "all");
+  EXPECT_THROW(requireTrainSplit("/all_models"), InvalidArgumentError);
+  EXPECT_FALSE(requireTrainSplit("/no_simulator_here"));
 }
 
 }  // namespace

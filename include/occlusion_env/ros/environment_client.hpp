@@ -20,6 +20,11 @@ struct EnvironmentClientOptions {
   int reset_attempts = 3;           // transport failures of one reset before it gives up
 };
 
+/// For trainers: throws InvalidArgumentError when the simulator under `ns` (its
+/// `occlusion_sim/model_split` parameter) may draw test-split models; returns false (and trains
+/// on) when the parameter is not there to read, e.g. behind a camera bridge.
+bool requireTrainSplit(const std::string& ns);
+
 class EnvironmentClient : public EnvironmentInterface {
  public:
   /// `node` resolves the service names (occlusion/reset, ...). Does not connect yet.
