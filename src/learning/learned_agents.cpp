@@ -22,9 +22,11 @@ Action NetworkDirectionAgent::act(const Observation& observation, const StepInfo
   writeNetworkInput(observation.rgb, observation.depth, model_->network->config().input_size,
                     scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
-  const NetworkOutput out = model_->network->forward(input_);
+  // The encoder and one head: the decoder's occlusion map is not needed to move.
+  auto& network = model_->network;
   const torch::Tensor direction =
-      head_ == DirectionHead::kGradient ? out.gradient_direction : out.escape_direction;
+      (head_ == DirectionHead::kGradient ? network->gradientHead() : network->escapeHead())
+          ->forward(network->encode(input_));
   const float sin = direction[0][0].item<float>(), cos = direction[0][1].item<float>();
   if (!std::isfinite(sin) || !std::isfinite(cos) || (sin == 0.0f && cos == 0.0f)) {
     throw std::runtime_error("the network predicted no direction");
@@ -37,21 +39,30 @@ std::string defaultModelPath() {
   return std::string(OCCLUSION_ENV_SOURCE_DIR) + "/models/multitask_unet64.pt";
 }
 
-namespace {
-
-AgentEntry networkEntry(const std::string& name, const std::string& summary,
-                        const std::string& paper_label, DirectionHead head) {
+AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
+                           const std::string& paper_label, const std::string& default_model_path,
+                           std::function<std::unique_ptr<Agent>(const std::string&)> make) {
   AgentEntry entry;
   entry.name = name;
   entry.summary = summary;
   entry.needs.model_file = true;
   entry.paper_label = paper_label;
-  entry.default_model_path = defaultModelPath();
-  entry.make = [head](const AgentContext& context) {
-    auto model = std::make_shared<LoadedModel>(loadModel(context.model_path));
-    return std::make_unique<NetworkDirectionAgent>(std::move(model), head);
+  entry.default_model_path = default_model_path;
+  entry.make = [make = std::move(make)](const AgentContext& context) {
+    return make(context.model_path);
   };
   return entry;
+}
+
+namespace {
+
+AgentEntry networkEntry(const std::string& name, const std::string& summary,
+                        const std::string& paper_label, DirectionHead head) {
+  return modelAgentEntry(name, summary, paper_label, defaultModelPath(),
+                         [head](const std::string& path) {
+                           return std::make_unique<NetworkDirectionAgent>(
+                               std::make_shared<LoadedModel>(loadModel(path)), head);
+                         });
 }
 
 }  // namespace

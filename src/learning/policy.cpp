@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 
 namespace occlusion_env {
@@ -194,17 +195,10 @@ std::string shippedPolicyPath(const std::string& name) {
 
 AgentEntry policyEntry(const std::string& name, const std::string& summary,
                        const std::string& paper_label, const std::string& default_model_path) {
-  AgentEntry entry;
-  entry.name = name;
-  entry.summary = summary;
-  entry.needs.model_file = true;
-  entry.paper_label = paper_label;
-  entry.default_model_path = default_model_path;
-  entry.make = [](const AgentContext& context) {
-    return std::make_unique<PolicyAgent>(
-        std::make_shared<LoadedPolicy>(loadPolicy(context.model_path)));
-  };
-  return entry;
+  return modelAgentEntry(
+      name, summary, paper_label, default_model_path, [](const std::string& path) {
+        return std::make_unique<PolicyAgent>(std::make_shared<LoadedPolicy>(loadPolicy(path)));
+      });
 }
 
 }  // namespace

@@ -190,7 +190,7 @@ class PpoTrainer {
     environments_->run(requests);
     torch::Tensor features = encode(inputs_);
 
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const std::int64_t start_steps = progress_.env_steps;
     while (progress_.env_steps < options_.total_steps) {
       const double std = actionStd();
@@ -215,8 +215,7 @@ class PpoTrainer {
       update.episodes = progress_.episodes;
       update.action_std = std;
       summariseEpisodes(update);
-      update.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      update.seconds = secondsSince(start);
       update.steps_per_second = (progress_.env_steps - start_steps) / update.seconds;
       appendUpdate(update);
       if (callbacks_.on_update) callbacks_.on_update(update);

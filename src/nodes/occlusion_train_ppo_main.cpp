@@ -4,6 +4,7 @@
 //   occlusion_train_ppo --out runs/policy_un --envs ros:/sim0,/sim1   (launch/simulators.launch)
 #include <ros/ros.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/policy.hpp"
 #include "occlusion_env/learning/ppo.hpp"
 #include "occlusion_env/learning/training.hpp"
 #include "occlusion_env/ros/environment_client.hpp"
@@ -190,21 +192,22 @@ int printMeanLengths(const std::vector<std::string>& paths) {
   scenes.model_split = "train";
   Environment environment(environmentOptionsFor(scenes));
   for (const std::string& path : paths) {
-    learning::LoadedPolicy policy = learning::loadPolicy(path);
-    auto& network = policy.network;
-    const int size = network->backbone()->config().input_size;
-    learning::InputScratch scratch;
-    torch::Tensor input = torch::empty({1, 4, size, size});
-    const torch::Tensor rig = torch::zeros({1, learning::kRigInputs});
+    // At a start view (no move yet, elevation 0) the rig inputs are zero, so each agent's action
+    // is its network's raw output: the policy's mean, the backbone's escape head.
+    auto policy = std::make_shared<learning::LoadedPolicy>(learning::loadPolicy(path));
+    auto backbone = std::make_shared<learning::LoadedModel>();
+    backbone->network = policy->network->backbone();
+    learning::PolicyAgent policy_agent(policy);
+    learning::NetworkDirectionAgent escape_agent(backbone, learning::DirectionHead::kEscape);
     double policy_sum = 0.0, escape_sum = 0.0;
     constexpr int kScenes = 30;
-    torch::NoGradGuard no_grad;
     for (int k = 0; k < kScenes; ++k) {
       const StepResult start = environment.reset(kFirstValidationSeed + 100 + k);
-      learning::writeNetworkInput(start.observation->rgb, start.observation->depth, size, scratch,
-                                  input.data_ptr<float>());
-      policy_sum += network->actionMean(network->features(input), rig).norm().item<double>();
-      escape_sum += network->backbone()->forward(input).escape_direction.norm().item<double>();
+      policy_agent.reset(0);
+      const Action mean = policy_agent.act(*start.observation, start.info);
+      const Action escape = escape_agent.act(*start.observation, start.info);
+      policy_sum += std::hypot(mean.d_azimuth_rad, mean.d_elevation_rad);
+      escape_sum += std::hypot(escape.d_azimuth_rad, escape.d_elevation_rad);
     }
     std::cout << path << ": mean action length " << std::fixed << std::setprecision(2)
               << policy_sum / kScenes << " (its backbone's escape head: " << escape_sum / kScenes

@@ -487,28 +487,36 @@ std::string runStrip(const CommandLine& cl, const std::string& scenes_path) {
   return md.str();
 }
 
+// The manifests of the shipped models (models/*.json) of `kind` ("multitask_unet" for those
+// written before kinds existed) that carry validation figures, in file-name order; unreadable
+// files are left out.
+std::vector<nlohmann::json> shippedManifests(const CommandLine& cl, const std::string& kind) {
+  std::vector<fs::path> paths;
+  const fs::path models = fs::path(cl.source_dir) / "models";
+  if (fs::is_directory(models)) {
+    for (const auto& entry : fs::directory_iterator(models)) {
+      if (entry.path().extension() == ".json") paths.push_back(entry.path());
+    }
+  }
+  std::sort(paths.begin(), paths.end());
+  std::vector<nlohmann::json> manifests;
+  for (const fs::path& path : paths) {
+    std::ifstream in(path);
+    try {
+      nlohmann::json manifest = nlohmann::json::parse(in);
+      if (manifest.value("kind", "multitask_unet") == kind && manifest.contains("validation")) {
+        manifests.push_back(std::move(manifest));
+      }
+    } catch (const std::exception&) {
+    }
+  }
+  return manifests;
+}
+
 // The shipped PPO policies (models/*.json of kind ppo_policy): recipe, training length, the end
 // of their training curves and their validation figures.
 std::string policySection(const CommandLine& cl) {
-  std::vector<nlohmann::json> policies;
-  const fs::path models = fs::path(cl.source_dir) / "models";
-  if (fs::is_directory(models)) {
-    std::vector<fs::path> manifests;
-    for (const auto& entry : fs::directory_iterator(models)) {
-      if (entry.path().extension() == ".json") manifests.push_back(entry.path());
-    }
-    std::sort(manifests.begin(), manifests.end());
-    for (const fs::path& path : manifests) {
-      std::ifstream in(path);
-      try {
-        nlohmann::json manifest = nlohmann::json::parse(in);
-        if (manifest.value("kind", "") == "ppo_policy" && manifest.contains("validation")) {
-          policies.push_back(std::move(manifest));
-        }
-      } catch (const std::exception&) {
-      }
-    }
-  }
+  const std::vector<nlohmann::json> policies = shippedManifests(cl, "ppo_policy");
   if (policies.empty()) return "";
   std::ostringstream md;
   md << "## The PPO policies (Figure 3)\n\n"
@@ -541,14 +549,6 @@ std::string policySection(const CommandLine& cl) {
 // Table 3 layout: the validation figures of every shipped model (models/*.json), beside the
 // paper's rows.
 std::string networkSection(const CommandLine& cl) {
-  std::vector<fs::path> manifests;
-  const fs::path models = fs::path(cl.source_dir) / "models";
-  if (fs::is_directory(models)) {
-    for (const auto& entry : fs::directory_iterator(models)) {
-      if (entry.path().extension() == ".json") manifests.push_back(entry.path());
-    }
-  }
-  std::sort(manifests.begin(), manifests.end());
   std::ostringstream md;
   md << "## The multi-task network (Table 3 layout)\n\n"
      << "Validation figures of the shipped models (`models/`, trained by `occlusion_train`; "
@@ -560,24 +560,16 @@ std::string networkSection(const CommandLine& cl) {
      << "| Model | Variant | Size | Epoch | Dice | Pixel acc | IoU | Gradient MSE | Gradient "
         "angle | Escape MSE | Escape angle "
         "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const fs::path& path : manifests) {
-    std::ifstream in(path);
-    nlohmann::json manifest;
-    try {
-      manifest = nlohmann::json::parse(in);
-    } catch (const std::exception&) {
-      continue;
-    }
-    if (!manifest.contains("validation") || !manifest.contains("network")) continue;
-    if (manifest.value("kind", "") == "ppo_policy") continue;  // policySection()
+  for (const nlohmann::json& manifest : shippedManifests(cl, "multitask_unet")) {
+    if (!manifest.contains("network")) continue;
     const nlohmann::json& v = manifest["validation"];
     const nlohmann::json& net = manifest["network"];
     const std::string loss =
         manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
-    md << std::fixed << "| `" << path.stem().string() << "` | " << net.value("variant", "?")
-       << (loss == "smooth_l1" ? "-L1" : "") << " | " << net.value("input_size", 0) << " | "
-       << manifest.value("epoch", 0) << " | " << std::setprecision(3)
-       << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
+    md << std::fixed << "| `" << fs::path(manifest.value("file", "?")).stem().string() << "` | "
+       << net.value("variant", "?") << (loss == "smooth_l1" ? "-L1" : "") << " | "
+       << net.value("input_size", 0) << " | " << manifest.value("epoch", 0) << " | "
+       << std::setprecision(3) << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
        << 100.0 * v.value("val_pixel_accuracy", 0.0) << " % | " << 100.0 * v.value("val_iou", 0.0)
        << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << " | "
        << std::setprecision(1) << v.value("val_gradient_angle_deg", 0.0) << " deg | "

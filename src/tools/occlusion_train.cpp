@@ -47,8 +47,8 @@ Options:
   --help                 this text
 )";
 
-// Median time of one learned step's inference: the input from a 256 x 256 observation, the whole
-// network (batch 1, one thread), as NetworkDirectionAgent::act does.
+// Median time of one learned step's inference, NetworkDirectionAgent::act: the input from a
+// 256 x 256 observation, the encoder and the escape head (batch 1, one thread).
 int benchInference(const std::string& model_path) {
   using namespace occlusion_env;
   try {

@@ -3,6 +3,7 @@
 // the oracle's first step, which does not lead into the local minima that trap the gradient).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -32,6 +33,12 @@ class NetworkDirectionAgent : public Agent {
 
 /// The shipped model the learned agents use by default (models/, README "Learned agents").
 std::string defaultModelPath();
+
+/// A registry entry for an agent made from a model file: needs.model_file set, `make` given the
+/// file's path ("" default_model_path: the agent runs only when a path is given).
+AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
+                           const std::string& paper_label, const std::string& default_model_path,
+                           std::function<std::unique_ptr<Agent>(const std::string&)> make);
 
 AgentEntry predictedGradientAgentEntry();
 AgentEntry predictedEscapeAgentEntry();

@@ -67,7 +67,10 @@ class MultiTaskUNetImpl : public torch::nn::Module {
   /// The pooled bottleneck only (the encoder), [B, C].
   torch::Tensor encode(torch::Tensor input);
   const NetworkConfig& config() const { return config_; }
-  /// Linear -> ReLU -> Linear to (sin, cos) of the escape direction (a policy's actor starts here).
+  /// The direction heads, Linear -> ReLU -> Linear from encode()'s features to (sin, cos): an
+  /// agent that only moves needs these and not the decoder. A policy's actor starts as the
+  /// escape head.
+  torch::nn::Sequential& gradientHead() { return gradient_head_; }
   torch::nn::Sequential& escapeHead() { return escape_head_; }
 
  private:
