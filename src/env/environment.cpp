@@ -187,27 +187,10 @@ StepResult Environment::step(const Action& action) {
   if (episode_over_) {
     throw InvalidStateError("the episode has ended (terminated or truncated): call reset");
   }
-  if (!std::isfinite(action.d_azimuth_rad) || !std::isfinite(action.d_elevation_rad)) {
-    throw InvalidArgumentError("action must be finite");
-  }
-  double d_azimuth = action.d_azimuth_rad;
-  double d_elevation = action.d_elevation_rad;
-  // Scale by the larger component first, so that neither huge nor subnormal actions over- or
-  // underflow on the way to their length.
-  const double largest = std::max(std::abs(d_azimuth), std::abs(d_elevation));
-  if (largest > 0.0) {
-    const double unit_azimuth = d_azimuth / largest, unit_elevation = d_elevation / largest;
-    const double length = largest * std::hypot(unit_azimuth, unit_elevation);  // may be inf
-    const double step = options_.step_size_rad;
-    if (options_.normalize_action || length > step) {
-      const double unit_length = std::hypot(unit_azimuth, unit_elevation);  // in [1, sqrt 2]
-      d_azimuth = unit_azimuth / unit_length * step;
-      d_elevation = unit_elevation / unit_length * step;
-    }
-  }
+  const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
 
   const std::int64_t previous = info_.occlusion.total_pixels;
-  info_.pose = camera_.moved(info_.pose, d_azimuth, d_elevation);
+  info_.pose = camera_.moved(info_.pose, move.d_azimuth_rad, move.d_elevation_rad);
   info_.world_from_optical = camera_.worldFromOptical(info_.pose);
   renderCurrent();
   ++info_.step_index;
@@ -220,6 +203,17 @@ StepResult Environment::step(const Action& action) {
   episode_over_ = result.terminated || result.truncated;
   result.info = info_;
   return result;
+}
+
+const StepInfo& Environment::viewFrom(const SphericalPose& pose) {
+  if (!has_episode_) throw InvalidStateError("viewFrom() before any reset(): call reset first");
+  if (!std::isfinite(pose.azimuth_rad) || !std::isfinite(pose.elevation_rad)) {
+    throw InvalidArgumentError("camera pose must be finite");
+  }
+  info_.pose = camera_.normalized(pose);
+  info_.world_from_optical = camera_.worldFromOptical(info_.pose);
+  renderCurrent();
+  return info_;
 }
 
 void Environment::renderCurrent() {

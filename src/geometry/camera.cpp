@@ -92,4 +92,9 @@ Eigen::Matrix3d bodyFromOpticalRotation() {
   return body_from_optical;
 }
 
+SphericalPose sphericalPoseOf(const Eigen::Vector3d& position_m) {
+  return {std::atan2(position_m.y(), position_m.x()),
+          std::atan2(position_m.z(), std::hypot(position_m.x(), position_m.y()))};
+}
+
 }  // namespace occlusion_env

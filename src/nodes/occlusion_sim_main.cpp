@@ -1,4 +1,5 @@
-// occlusion_sim: the simulated active-perception camera as a ROS node (README, "ROS interface").
+// occlusion_sim: the simulated active-perception camera as a ROS node (README, "ROS interface"),
+// or, with ~mode camera, a stand-in for a real camera on a robot (README, "Using a real camera").
 #include <ros/ros.h>
 
 #include <exception>
@@ -6,11 +7,13 @@
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 #include "occlusion_env/ros/simulator_node.hpp"
+#include "occlusion_env/ros/stand_in_camera.hpp"
 
 int main(int argc, char** argv) {
-  ros::init(argc, argv, occlusion_env::names::kSimulatorNode);
+  namespace names = occlusion_env::names;
+  ros::init(argc, argv, names::kSimulatorNode);
   ros::NodeHandle private_node("~");
-  ros::NodeHandle node(occlusion_env::names::kNamespace);
+  ros::NodeHandle node(names::kNamespace);
   for (const std::string& name : occlusion_env::unknownParameters(private_node)) {
     ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
   }
@@ -18,12 +21,21 @@ int main(int argc, char** argv) {
     // Built on this thread, which then spins alone: the GL context stays on one thread and
     // service calls are served one at a time, in order.
     const auto options = occlusion_env::readSimulatorOptions(private_node);
+    if (options.cameraMode()) {
+      occlusion_env::StandInCamera camera(options, node, private_node);
+      ROS_INFO_STREAM("occlusion_sim ready as a stand-in camera: images under "
+                      << node.getNamespace() << ", goals on "
+                      << node.resolveName(names::kCameraGoalTopic) << ", scenes by "
+                      << node.resolveName(names::kArrangeSceneService));
+      ros::spin();
+      return 0;
+    }
     occlusion_env::SimulatorNode simulator(options, node, private_node);
     ROS_INFO_STREAM("occlusion_sim ready: services "
-                    << node.resolveName(occlusion_env::names::kResetService) << ", "
-                    << node.resolveName(occlusion_env::names::kStepService)
+                    << node.resolveName(names::kResetService) << ", "
+                    << node.resolveName(names::kStepService)
                     << (options.offer_gradient
-                            ? ", " + node.resolveName(occlusion_env::names::kGradientService)
+                            ? ", " + node.resolveName(names::kGradientService)
                             : std::string(" (no gradient service)")));
     ros::spin();
   } catch (const std::exception& error) {

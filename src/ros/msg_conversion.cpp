@@ -3,7 +3,9 @@
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 namespace occlusion_env {
@@ -17,6 +19,8 @@ const std::string& encodingOf(const cv::Mat& mat) {
       return sensor_msgs::image_encodings::TYPE_32FC1;
     case CV_8UC1:
       return sensor_msgs::image_encodings::MONO8;
+    case CV_16UC1:
+      return sensor_msgs::image_encodings::TYPE_16UC1;
     default:
       throw std::invalid_argument("fillImage: unsupported cv::Mat type " +
                                   std::to_string(mat.type()));
@@ -39,6 +43,53 @@ void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::
   } else {
     for (int row = 0; row < mat.rows; ++row) {
       std::memcpy(image.data.data() + row * row_bytes, mat.ptr(row), row_bytes);
+    }
+  }
+}
+
+void toMillimetreDepth(const cv::Mat& depth_m, cv::Mat& millimetres) {
+  if (depth_m.type() != CV_32FC1) throw std::invalid_argument("toMillimetreDepth: not CV_32FC1");
+  millimetres.create(depth_m.size(), CV_16UC1);
+  for (int row = 0; row < depth_m.rows; ++row) {
+    const float* metres = depth_m.ptr<float>(row);
+    std::uint16_t* out = millimetres.ptr<std::uint16_t>(row);
+    for (int col = 0; col < depth_m.cols; ++col) {
+      const float mm = metres[col] * 1000.0f + 0.5f;
+      // No reading (NaN, not positive, beyond the range of 16 bits) is 0, as drivers send it.
+      out[col] = mm >= 1.0f && mm < 65536.0f ? static_cast<std::uint16_t>(mm) : 0;
+    }
+  }
+}
+
+void toMetricDepth(const sensor_msgs::Image& image, cv::Mat& depth_m) {
+  namespace enc = sensor_msgs::image_encodings;
+  const bool millimetres = image.encoding == enc::TYPE_16UC1 || image.encoding == enc::MONO16;
+  if (!millimetres && image.encoding != enc::TYPE_32FC1) {
+    throw std::invalid_argument("depth encoding " + image.encoding +
+                                ", expected 32FC1 [m] or 16UC1 [mm] (REP 118)");
+  }
+  if (image.is_bigendian) throw std::invalid_argument("big-endian depth images are not supported");
+  const std::size_t pixel_bytes = millimetres ? 2 : 4;
+  if (image.step < image.width * pixel_bytes ||
+      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
+    throw std::invalid_argument("depth image data smaller than its width, height and step say");
+  }
+  depth_m.create(static_cast<int>(image.height), static_cast<int>(image.width), CV_32FC1);
+  const float no_reading = std::numeric_limits<float>::quiet_NaN();
+  for (int row = 0; row < depth_m.rows; ++row) {
+    const std::uint8_t* in = image.data.data() + static_cast<std::size_t>(row) * image.step;
+    float* out = depth_m.ptr<float>(row);
+    for (int col = 0; col < depth_m.cols; ++col) {
+      if (millimetres) {
+        std::uint16_t mm;
+        std::memcpy(&mm, in + col * 2, 2);
+        out[col] = mm == 0 ? no_reading : static_cast<float>(mm) * 0.001f;
+      } else {
+        float metres;
+        std::memcpy(&metres, in + col * 4, 4);
+        // REP 118: NaN no reading, +inf too far, -inf too close; 0 is what some drivers send.
+        out[col] = std::isfinite(metres) && metres > 0.0f ? metres : no_reading;
+      }
     }
   }
 }
@@ -105,6 +156,7 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
   message.elevation = info.pose.elevation_rad;
   message.step_index = info.step_index;
   message.occlusion = toOcclusionFigures(info.occlusion);
+  message.occlusion_source = CameraObservation::GROUND_TRUTH;
   const std::vector<SceneObject>& objects = environment.scene().objects;
   message.object_ids.resize(objects.size());
   message.object_categories.resize(objects.size());
@@ -116,8 +168,10 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
 
 namespace {
 
-// A cv::Mat header over `image`'s data, checked against the expected encoding.
+// A cv::Mat header over `image`'s data, checked against the expected encoding. An image of no
+// pixels (a mask the camera bridge cannot give) is an empty Mat, whatever its encoding.
 cv::Mat matView(const sensor_msgs::Image& image, const std::string& encoding, int type) {
+  if (image.width == 0 && image.height == 0) return cv::Mat();
   if (image.encoding != encoding) {
     throw std::invalid_argument("image encoding " + image.encoding + ", expected " + encoding);
   }

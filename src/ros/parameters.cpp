@@ -184,7 +184,11 @@ const std::vector<std::string>& simulatorParameterNames() {
                                                   "gradient_finite_difference_step",
                                                   "gradient_zero_tolerance",
                                                   "rasterizer_threads",
-                                                  "model_split"};
+                                                  "model_split",
+                                                  "mode",
+                                                  "camera_rate",
+                                                  "motion_time",
+                                                  "depth_encoding"};
   return kNames;
 }
 
@@ -234,6 +238,10 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   reader.read("gradient_finite_difference_step", environment.gradient.finite_difference_step_rad);
   reader.read("gradient_zero_tolerance", environment.gradient.zero_gradient_tolerance);
   reader.read("rasterizer_threads", environment.renderer.rasterizer_threads);
+  reader.read("mode", options.mode);
+  reader.read("camera_rate", options.camera_rate_hz);
+  reader.read("motion_time", options.motion_time_s);
+  reader.read("depth_encoding", options.depth_encoding);
 
   const std::string prefix = "parameter " + private_node.getNamespace() + "/";
   try {
@@ -268,6 +276,19 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   }
   if (options.tf_rate_hz < 0.0 || options.tf_rate_hz > 1000.0) {
     throw ParameterError(prefix + "tf_rate must be in [0, 1000] Hz");
+  }
+  if (options.mode != "simulator" && options.mode != "camera") {
+    throw ParameterError(prefix + "mode must be simulator or camera, got '" + options.mode + "'");
+  }
+  if (!(options.camera_rate_hz > 0.0 && options.camera_rate_hz <= 1000.0)) {
+    throw ParameterError(prefix + "camera_rate must be in (0, 1000] Hz");
+  }
+  if (!(options.motion_time_s >= 0.0 && options.motion_time_s <= 60.0)) {
+    throw ParameterError(prefix + "motion_time must be in [0, 60] s");
+  }
+  if (options.depth_encoding != "32FC1" && options.depth_encoding != "16UC1") {
+    throw ParameterError(prefix + "depth_encoding must be 32FC1 or 16UC1, got '" +
+                         options.depth_encoding + "'");
   }
   if (options.start_seed < -1) {
     throw ParameterError(prefix + "start_seed must be -1 (no reset at start-up) or a seed >= 0");

@@ -27,6 +27,8 @@ void throwForStatus(const Status& status, const std::string& what) {
       throw RenderError(message);
     case Status::SCENE_GENERATION_ERROR:
       throw SceneGenerationError(message);
+    case Status::UNAVAILABLE:
+      throw EnvironmentUnavailableError(message);
     default:
       throw std::runtime_error(message + " (status " + std::to_string(status.code) + ")");
   }
@@ -48,6 +50,8 @@ Status statusFromException(const std::exception_ptr& error) {
     return makeStatus(Status::RENDER_ERROR, e.what());
   } catch (const SceneGenerationError& e) {
     return makeStatus(Status::SCENE_GENERATION_ERROR, e.what());
+  } catch (const EnvironmentUnavailableError& e) {
+    return makeStatus(Status::UNAVAILABLE, e.what());
   } catch (const std::exception& e) {
     return makeStatus(Status::INTERNAL_ERROR, std::string("internal error: ") + e.what());
   } catch (...) {

@@ -130,6 +130,27 @@ TEST(EnvironmentTest, ZeroActionIsANoOpStep) {
   EXPECT_DOUBLE_EQ(result.reward, -0.2);  // no change, not solved: the step penalty alone
 }
 
+TEST(EnvironmentTest, ViewFromRendersAPoseOutsideTheEpisodesSteps) {
+  Environment stepped(smallOptions());
+  stepped.reset(5);
+  const StepResult moved = stepped.step({1.0, 1.0});
+  const Observation expected = copyOf(*moved.observation);
+
+  Environment placed(smallOptions());
+  EXPECT_THROW(placed.viewFrom(moved.info.pose), InvalidStateError);
+  placed.reset(5);
+  EXPECT_THROW(placed.viewFrom({NAN, 0.0}), InvalidArgumentError);
+  const StepInfo& info = placed.viewFrom(moved.info.pose);
+  EXPECT_EQ(info.step_index, 0);  // not a step
+  EXPECT_EQ(info.pose.azimuth_rad, moved.info.pose.azimuth_rad);
+  EXPECT_EQ(info.occlusion.total_pixels, moved.info.occlusion.total_pixels);
+  EXPECT_TRUE(identical(expected, placed.observation()));
+  EXPECT_EQ(placed.step({0.0, 1.0}).info.step_index, 1);  // the episode goes on from there
+  // Beyond the elevation limit it stops at the limit, as a step would.
+  EXPECT_DOUBLE_EQ(placed.viewFrom({0.0, 2.0}).pose.elevation_rad,
+                   placed.options().elevation_limit_rad);
+}
+
 TEST(EnvironmentTest, RewardAndFlagsFollowTheOcclusion) {
   EnvironmentOptions options = smallOptions();
   options.max_steps = 4;

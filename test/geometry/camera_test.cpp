@@ -67,6 +67,22 @@ TEST(SphericalCameraTest, ClampsElevationAndWrapsAzimuth) {
   EXPECT_DOUBLE_EQ(camera.normalized({-M_PI, 0.0}).azimuth_rad, M_PI);  // (-pi, pi]
 }
 
+TEST(SphericalCameraTest, SphericalPoseOfAPositionInvertsPosition) {
+  const SphericalCamera camera(4.0, 80.0 * M_PI / 180.0);
+  for (const SphericalPose pose : {SphericalPose{0.0, 0.0}, SphericalPose{0.3, -0.2},
+                                   SphericalPose{-3.0, 1.2}, SphericalPose{M_PI, 0.5}}) {
+    const SphericalPose recovered = sphericalPoseOf(camera.position(pose));
+    EXPECT_NEAR(recovered.azimuth_rad, pose.azimuth_rad, kTolerance);
+    EXPECT_NEAR(recovered.elevation_rad, pose.elevation_rad, kTolerance);
+    // The distance does not count.
+    const SphericalPose far = sphericalPoseOf(3.0 * camera.position(pose));
+    EXPECT_NEAR(far.elevation_rad, pose.elevation_rad, kTolerance);
+  }
+  const SphericalPose origin = sphericalPoseOf(Eigen::Vector3d::Zero());
+  EXPECT_EQ(origin.azimuth_rad, 0.0);
+  EXPECT_EQ(origin.elevation_rad, 0.0);
+}
+
 TEST(SphericalCameraTest, RejectsBadConstruction) {
   EXPECT_THROW(SphericalCamera(0.0, 1.0), InvalidArgumentError);
   EXPECT_THROW(SphericalCamera(-1.0, 1.0), InvalidArgumentError);

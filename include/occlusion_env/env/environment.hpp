@@ -73,6 +73,12 @@ class Environment : public EnvironmentInterface, public RenderedView {
   /// that still counts as a step.
   StepResult step(const Action& action) override;
 
+  /// Puts the camera at `pose` (normalized) and renders the view there, outside the episode's
+  /// steps: no reward, step count or end. How the simulator stands in for a real camera that a
+  /// robot moves (ros/stand_in_camera.hpp). Throws InvalidStateError before the first reset and
+  /// InvalidArgumentError for a non-finite pose, leaving the view as it was.
+  const StepInfo& viewFrom(const SphericalPose& pose);
+
   /// The gradient of the current view by options().gradient_method, with options().gradient.
   bool hasOcclusionGradient() const override { return true; }
   GradientResult occlusionGradient() override;

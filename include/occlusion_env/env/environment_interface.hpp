@@ -35,6 +35,12 @@ struct Action {
   double d_elevation_rad = 0.0;
 };
 
+/// The move an environment makes for `action` (doc/CONVENTIONS.md, "Actions"): scaled to length
+/// `step_size_rad` when `normalize` or when longer, else as given; a zero action stays zero.
+/// Throws InvalidArgumentError for a non-finite action. Shared by the simulator and the camera
+/// bridge, so both move the camera alike.
+Action cameraMoveFor(const Action& action, double step_size_rad, bool normalize);
+
 /// What the camera sees. The images are views of the environment's buffers, valid until the next
 /// reset() or step(): clone them to keep them. A remote environment may leave amodal_bits empty.
 struct Observation {

@@ -67,6 +67,11 @@ class SphericalCamera {
   double elevation_limit_rad_;
 };
 
+/// The azimuth and elevation of `position_m` seen from the sphere's centre (doc/CONVENTIONS.md),
+/// neither wrapped nor clamped beyond atan2's ranges; its distance is ignored. For a camera whose
+/// pose is measured (tf) rather than set. The origin gives (0, 0).
+SphericalPose sphericalPoseOf(const Eigen::Vector3d& position_m);
+
 /// The fixed rotation from the camera body frame to its optical frame (REP 103).
 Eigen::Matrix3d bodyFromOpticalRotation();
 

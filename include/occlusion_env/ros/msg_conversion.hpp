@@ -24,6 +24,16 @@ namespace occlusion_env {
 /// (rgb8), CV_32FC1 (32FC1) or CV_8UC1 (mono8). Throws std::invalid_argument otherwise.
 void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::Image& image);
 
+/// Depth [m] (CV_32FC1, NaN where nothing is hit) as REP 118's 16UC1: millimetres, rounded, 0
+/// where there is no reading or the depth is beyond 65.535 m. `millimetres` is reused.
+void toMillimetreDepth(const cv::Mat& depth_m, cv::Mat& millimetres);
+
+/// A depth image of either REP 118 encoding as metres: 32FC1 [m] (NaN, inf and values <= 0 are
+/// no reading) or 16UC1 [mm] (0 is no reading). `depth_m` (CV_32FC1, reused) gets NaN wherever
+/// there is no reading, the package's convention. Throws std::invalid_argument on another
+/// encoding, a big-endian image or data smaller than the image says.
+void toMetricDepth(const sensor_msgs::Image& image, cv::Mat& depth_m);
+
 /// Pinhole CameraInfo (plumb_bob, zero distortion, P = [K | 0]).
 sensor_msgs::CameraInfo toCameraInfo(const CameraIntrinsics& intrinsics,
                                      const std_msgs::Header& header);
@@ -44,7 +54,8 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
 
 /// The core's view of an observation message, for agents running behind ROS: `observation` gets
 /// cv::Mat headers over the message's image buffers (no copy: valid while `message` is unchanged;
-/// amodal_bits stays empty, it is not sent), `info` the pose, step index, occlusion figures and
+/// amodal_bits stays empty, it is not sent; an image of no pixels, as the camera bridge sends for
+/// masks it cannot give, stays empty too), `info` the pose, step index, occlusion figures and
 /// camera pose. Throws std::invalid_argument on an image of the wrong encoding or size.
 void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info);
 

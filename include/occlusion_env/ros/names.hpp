@@ -36,6 +36,15 @@ constexpr char kEpisodesTopic[] = "episodes";  // occlusion_env/EpisodeReport, o
 // Subscribed topics.
 constexpr char kMoveTopic[] = "move";  // occlusion_env/CameraMove
 
+// A real camera on a robot, and the camera bridge that serves reset/step for it
+// (ros/camera_bridge.hpp; the simulator in ~mode camera stands in for camera and robot).
+constexpr char kCameraBridgeNode[] = "camera_bridge";
+// Published by the bridge, for the robot: the pose the camera's optical frame is to take.
+constexpr char kCameraGoalTopic[] = "camera_goal";  // geometry_msgs/PoseStamped
+// The stand-in camera's truth, which no real camera has: tests and checks of the bridge only.
+constexpr char kArrangeSceneService[] = "ground_truth/arrange_scene";  // occlusion_env/Reset
+constexpr char kGroundTruthViewTopic[] = "ground_truth/view";  // occlusion_env/GroundTruthView
+
 // Frames (REP 103/105); defaults of the ~world_frame, ~camera_frame, ~optical_frame parameters.
 constexpr char kWorldFrame[] = "world";
 constexpr char kCameraFrame[] = "occlusion_camera";           // body: x forward, y left, z up

@@ -55,6 +55,13 @@ struct SimulatorOptions {
   double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
   std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
   bool offer_gradient = true;    // false: no get_occlusion_gradient, as a real camera
+
+  // ~mode camera: the simulator stands in for a real camera on a robot (ros/stand_in_camera.hpp).
+  std::string mode = "simulator";     // simulator | camera
+  double camera_rate_hz = 30.0;       // camera mode: frames per second, (0, 1000]
+  double motion_time_s = 0.05;        // camera mode: a goal is reached this long after it came
+  std::string depth_encoding = "32FC1";  // camera mode: 32FC1 [m] | 16UC1 [mm], 0 = no reading
+  bool cameraMode() const { return mode == "camera"; }
 };
 
 /// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their

@@ -1,0 +1,161 @@
+// The camera bridge: a real RGB-D camera on a robot behind the simulator's reset and step
+// services, so that every agent runs on it unchanged (README, "Using a real camera").
+//
+// In: synchronised RGB, depth (32FC1 [m] or 16UC1 [mm]) and camera_info; tf from the sphere's
+// frame to the camera's optical frame. Out: a geometry_msgs/PoseStamped goal for the optical
+// frame on camera_goal, for the robot. A step turns the action into the next pose on the viewing
+// sphere (doc/CONVENTIONS.md), publishes it, waits until tf shows the camera there and for the
+// first frame stamped after that, and answers with that frame. Occlusion cannot be measured on a
+// real camera: with a network model the bridge estimates it (CameraObservation::ESTIMATED) and
+// ends an episode when the estimate falls to ~occlusion_threshold; without one the figures are
+// UNAVAILABLE and only the step limit ends an episode. A timeout answers UNAVAILABLE and leaves
+// the episode as it was, so the next step starts from wherever the camera really is.
+#pragma once
+
+#include <geometry_msgs/PoseStamped.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/synchronizer.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_ros/buffer.h>
+
+#include <opencv2/core.hpp>
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/Reset.h"
+#include "occlusion_env/Step.h"
+#include "occlusion_env/geometry/camera.hpp"
+
+namespace occlusion_env {
+
+namespace learning {
+class OcclusionEstimator;
+}
+
+/// Every option of the bridge, with the defaults config/camera_bridge.yaml documents.
+struct CameraBridgeOptions {
+  // The viewing sphere, in the simulator's convention (doc/CONVENTIONS.md).
+  std::string sphere_frame = "world";  // origin = the sphere's centre, z up, azimuth from +x
+  std::string optical_frame;           // the camera's optical frame; "" = the images' frame_id
+  double radius_m = 4.0;
+  double elevation_limit_rad = 1.3962634016;  // 80 deg
+  double step_size_rad = 0.05;
+  bool normalize_action = true;
+  int max_steps = 50;
+
+  // Arrival and frames.
+  double position_tolerance_m = 0.01;   // the camera is there when tf is this close ...
+  double angle_tolerance_rad = 0.02;    // ... in position and in orientation
+  double arrival_timeout_s = 10.0;      // how long a move may take
+  double frame_timeout_s = 2.0;         // how long after arrival a frame may take
+  double settle_time_s = 0.0;           // frames stamped before arrival + this are not used
+  double sync_slop_s = 0.02;            // RGB, depth and camera_info within this count as one
+  double tf_poll_period_s = 0.002;      // how often tf is looked at while the robot moves
+  bool square_crop = true;              // agents get the central square, as in training
+
+  // Episodes and what is estimated.
+  std::string scene_service;            // "": none; else a Reset service called at each reset
+  std::string model_path;               // "": no estimate; else a multi-task network model
+  // The stopping rule, chosen on validation scenes by occlusion_bridge_calibration (doc/
+  // CAMERA_BRIDGE.md): the network misses overlaps of a few pixels, so the estimate must stay
+  // clear for several views while the agent moves on.
+  double occlusion_probability = 0.1;   // a pixel is occluded above this probability
+  std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate [px]
+  int confirm_views = 5;                // this many clear views in a row end an episode
+  double success_bonus = 5.0;  // the reward of the estimate: (L_{t-1} - L_t) / max(1, L_0) + P
+  double step_penalty = -0.2;
+
+  /// Throws ParameterError naming the first bad option.
+  void validate() const;
+};
+
+/// Reads every option from the node's private namespace; absent parameters keep their defaults.
+CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
+const std::vector<std::string>& cameraBridgeParameterNames();
+
+class CameraBridge {
+ public:
+  /// `node` resolves the topics and services (occlusion/...); `tf` must be filled by a listener
+  /// on its own thread. Loads the model (ParameterError when it cannot). Subscriptions are served
+  /// by the global callback queue, which must be spun by another thread (an AsyncSpinner); the
+  /// services by spinServices().
+  CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node, tf2_ros::Buffer& tf);
+  ~CameraBridge();
+
+  /// Serves reset and step, one at a time, until ROS shuts down.
+  void spinServices();
+
+  bool reset(Reset::Request& request, Reset::Response& response);
+  bool step(Step::Request& request, Step::Response& response);
+
+ private:
+  using Sync = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image,
+                                                               sensor_msgs::Image,
+                                                               sensor_msgs::CameraInfo>;
+  struct Frame {
+    sensor_msgs::ImageConstPtr rgb, depth;
+    sensor_msgs::CameraInfoConstPtr info;
+  };
+
+  void onFrame(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth,
+               const sensor_msgs::CameraInfoConstPtr& info);
+  /// The first frame stamped at or after `after`; EnvironmentUnavailableError after the timeout.
+  Frame waitForFrame(const ros::Time& after);
+  std::string opticalFrame();
+  /// The optical frame in the sphere's frame at `stamp` (zero: the latest).
+  Eigen::Isometry3d cameraPose(const ros::Time& stamp, ros::Time* transform_stamp = nullptr);
+  /// Publishes the goal and waits until tf shows the camera there; returns the stamp of the
+  /// transform that did. EnvironmentUnavailableError after the timeout.
+  ros::Time moveTo(const SphericalPose& goal);
+  /// Fills `observation` from `frame` (and estimates its occlusion); returns the estimate [px],
+  /// -1 when there is no model.
+  std::int64_t fillObservation(const Frame& frame, int step_index,
+                               CameraObservation& observation);
+  void noteStepTiming(double overhead_s, double robot_s, double frame_s);
+
+  CameraBridgeOptions options_;
+  ros::NodeHandle node_;
+  tf2_ros::Buffer& tf_;
+  SphericalCamera sphere_;
+  std::unique_ptr<learning::OcclusionEstimator> estimator_;
+
+  // Input, on the global queue's thread.
+  message_filters::Subscriber<sensor_msgs::Image> rgb_subscriber_;
+  message_filters::Subscriber<sensor_msgs::Image> depth_subscriber_;
+  message_filters::Subscriber<sensor_msgs::CameraInfo> info_subscriber_;
+  message_filters::Synchronizer<Sync> synchronizer_;
+  std::mutex frame_mutex_;
+  std::condition_variable frame_arrived_;
+  Frame latest_frame_;
+
+  // Services, on their own queue (spinServices()).
+  ros::CallbackQueue service_queue_;
+  ros::Publisher goal_publisher_;
+  ros::ServiceServer reset_service_;
+  ros::ServiceServer step_service_;
+  ros::ServiceClient scene_client_;
+
+  // The episode.
+  bool has_episode_ = false;
+  bool episode_over_ = false;
+  int step_index_ = 0;
+  std::int64_t last_estimate_px_ = -1;
+  int clear_views_ = 0;  // views in a row whose estimate is at or below the threshold
+  double reward_normalizer_ = 1.0;  // Z: the first view's estimate [px], at least 1
+
+  // Reused buffers of fillObservation().
+  cv::Mat rgb_, depth_m_, mask_;
+
+  // Timing of the last steps, summarised in the log every kTimingWindow steps.
+  std::vector<double> overhead_s_, robot_s_, frame_s_;
+};
+
+}  // namespace occlusion_env

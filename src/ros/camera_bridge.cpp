@@ -1,0 +1,463 @@
+#include "occlusion_env/ros/camera_bridge.hpp"
+
+#include <opencv2/imgproc.hpp>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
+#include "occlusion_env/ros/msg_conversion.hpp"
+#include "occlusion_env/ros/names.hpp"
+#include "occlusion_env/ros/parameters.hpp"
+#include "occlusion_env/ros/status.hpp"
+
+namespace occlusion_env {
+namespace {
+
+constexpr std::size_t kTimingWindow = 50;  // steps per timing line in the log
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+std::string milliseconds(double seconds) {
+  std::ostringstream text;
+  text.precision(3);
+  text << seconds * 1000.0 << " ms";
+  return text.str();
+}
+
+// The pixels of `image` as a cv::Mat header (no copy) of `type`.
+cv::Mat matOf(const sensor_msgs::Image& image, int type) {
+  if (image.step < image.width * CV_ELEM_SIZE(type) ||
+      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
+    throw InvalidArgumentError("image data smaller than its width, height and step say");
+  }
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                 const_cast<std::uint8_t*>(image.data.data()), image.step);
+}
+
+// The central square of a width x height image.
+cv::Rect centralSquare(int width, int height) {
+  const int side = std::min(width, height);
+  return {(width - side) / 2, (height - side) / 2, side, side};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Options
+// ---------------------------------------------------------------------------------------------
+
+void CameraBridgeOptions::validate() const {
+  const auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw ParameterError("camera bridge: " + what);
+  };
+  require(!sphere_frame.empty(), "sphere_frame must not be empty");
+  require(radius_m > 0.0, "radius must be > 0");
+  require(elevation_limit_rad >= 0.0 && elevation_limit_rad < M_PI / 2.0,
+          "elevation_limit must lie in [0, pi/2)");
+  require(step_size_rad > 0.0 && step_size_rad <= M_PI, "step_size must lie in (0, pi]");
+  require(max_steps >= 1, "max_steps must be >= 1");
+  require(position_tolerance_m > 0.0, "position_tolerance must be > 0");
+  require(angle_tolerance_rad > 0.0, "angle_tolerance must be > 0");
+  require(arrival_timeout_s > 0.0, "arrival_timeout must be > 0");
+  require(frame_timeout_s > 0.0, "frame_timeout must be > 0");
+  require(settle_time_s >= 0.0, "settle_time must be >= 0");
+  require(sync_slop_s >= 0.0, "sync_slop must be >= 0");
+  require(tf_poll_period_s > 0.0 && tf_poll_period_s <= 1.0, "tf_poll_period must lie in (0, 1]");
+  require(occlusion_probability > 0.0 && occlusion_probability < 1.0,
+          "occlusion_probability must lie in (0, 1)");
+  require(occlusion_threshold_px >= 0, "occlusion_threshold must be >= 0");
+  require(confirm_views >= 1, "confirm_views must be >= 1");
+}
+
+const std::vector<std::string>& cameraBridgeParameterNames() {
+  static const std::vector<std::string> kNames = {
+      "sphere_frame",       "optical_frame",      "radius",
+      "elevation_limit",    "step_size",          "normalize_action",
+      "max_steps",          "position_tolerance", "angle_tolerance",
+      "arrival_timeout",    "frame_timeout",      "settle_time",
+      "sync_slop",          "tf_poll_period",     "square_crop",
+      "scene_service",      "model",              "occlusion_probability",
+      "occlusion_threshold", "confirm_views",     "success_bonus",
+      "step_penalty"};
+  return kNames;
+}
+
+CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
+  const ParameterReader reader(private_node);
+  CameraBridgeOptions options;
+  reader.read("sphere_frame", options.sphere_frame);
+  reader.read("optical_frame", options.optical_frame);
+  reader.read("radius", options.radius_m);
+  reader.read("elevation_limit", options.elevation_limit_rad);
+  reader.read("step_size", options.step_size_rad);
+  reader.read("normalize_action", options.normalize_action);
+  reader.read("max_steps", options.max_steps);
+  reader.read("position_tolerance", options.position_tolerance_m);
+  reader.read("angle_tolerance", options.angle_tolerance_rad);
+  reader.read("arrival_timeout", options.arrival_timeout_s);
+  reader.read("frame_timeout", options.frame_timeout_s);
+  reader.read("settle_time", options.settle_time_s);
+  reader.read("sync_slop", options.sync_slop_s);
+  reader.read("tf_poll_period", options.tf_poll_period_s);
+  reader.read("square_crop", options.square_crop);
+  reader.read("scene_service", options.scene_service);
+  reader.read("model", options.model_path);
+  reader.read("occlusion_probability", options.occlusion_probability);
+  reader.read("occlusion_threshold", options.occlusion_threshold_px);
+  reader.read("confirm_views", options.confirm_views);
+  reader.read("success_bonus", options.success_bonus);
+  reader.read("step_penalty", options.step_penalty);
+  try {
+    options.validate();
+  } catch (const ParameterError& error) {
+    throw ParameterError(std::string(error.what()) + " (parameters in " +
+                         private_node.getNamespace() + ")");
+  }
+  return options;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The bridge
+// ---------------------------------------------------------------------------------------------
+
+CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node,
+                           tf2_ros::Buffer& tf)
+    : options_(options),
+      node_(std::move(node)),
+      tf_(tf),
+      sphere_(options.radius_m, options.elevation_limit_rad),
+      rgb_subscriber_(node_, names::kRgbImageTopic, 5),
+      depth_subscriber_(node_, names::kDepthImageTopic, 5),
+      info_subscriber_(node_, names::kRgbCameraInfoTopic, 5),
+      synchronizer_(Sync(10), rgb_subscriber_, depth_subscriber_, info_subscriber_) {
+  options_.validate();
+  if (!options_.model_path.empty()) {
+    try {
+      estimator_ = std::make_unique<learning::OcclusionEstimator>(
+          std::make_shared<learning::LoadedModel>(learning::loadModel(options_.model_path)),
+          options_.occlusion_probability);
+    } catch (const std::exception& error) {
+      throw ParameterError("parameter ~model: " + std::string(error.what()));
+    }
+  }
+  synchronizer_.setMaxIntervalDuration(ros::Duration(options_.sync_slop_s));
+  synchronizer_.registerCallback(&CameraBridge::onFrame, this);
+
+  ros::NodeHandle service_node(node_);
+  service_node.setCallbackQueue(&service_queue_);
+  goal_publisher_ = node_.advertise<geometry_msgs::PoseStamped>(names::kCameraGoalTopic, 1);
+  if (!options_.scene_service.empty()) {
+    scene_client_ = node_.serviceClient<Reset>(options_.scene_service);
+  }
+  reset_service_ = service_node.advertiseService(names::kResetService, &CameraBridge::reset, this);
+  step_service_ = service_node.advertiseService(names::kStepService, &CameraBridge::step, this);
+}
+
+CameraBridge::~CameraBridge() = default;
+
+void CameraBridge::spinServices() {
+  while (node_.ok()) service_queue_.callAvailable(ros::WallDuration(0.1));
+}
+
+void CameraBridge::onFrame(const sensor_msgs::ImageConstPtr& rgb,
+                           const sensor_msgs::ImageConstPtr& depth,
+                           const sensor_msgs::CameraInfoConstPtr& info) {
+  {
+    std::lock_guard<std::mutex> lock(frame_mutex_);
+    latest_frame_ = {rgb, depth, info};
+  }
+  frame_arrived_.notify_all();
+}
+
+CameraBridge::Frame CameraBridge::waitForFrame(const ros::Time& after) {
+  std::unique_lock<std::mutex> lock(frame_mutex_);
+  const auto is_new = [&] { return latest_frame_.rgb && latest_frame_.rgb->header.stamp >= after; };
+  const bool arrived = frame_arrived_.wait_for(
+      lock, std::chrono::duration<double>(options_.frame_timeout_s), is_new);
+  if (!arrived) {
+    std::ostringstream message;
+    message << "no synchronised RGB-D frame (" << rgb_subscriber_.getTopic() << ", "
+            << depth_subscriber_.getTopic() << ", " << info_subscriber_.getTopic()
+            << ") stamped after " << after << " within " << options_.frame_timeout_s << " s; ";
+    if (latest_frame_.rgb) {
+      message << "the last one is " << (ros::Time::now() - latest_frame_.rgb->header.stamp).toSec()
+              << " s old: is the camera still publishing?";
+    } else {
+      message << "none has come yet: check the topics and that their stamps agree within "
+              << options_.sync_slop_s << " s (~sync_slop)";
+    }
+    throw EnvironmentUnavailableError(message.str());
+  }
+  return latest_frame_;
+}
+
+std::string CameraBridge::opticalFrame() {
+  if (!options_.optical_frame.empty()) return options_.optical_frame;
+  std::lock_guard<std::mutex> lock(frame_mutex_);
+  if (!latest_frame_.rgb) {
+    throw EnvironmentUnavailableError("no camera frame yet: the optical frame is not known");
+  }
+  return latest_frame_.rgb->header.frame_id;
+}
+
+Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* transform_stamp) {
+  geometry_msgs::TransformStamped transform;
+  try {
+    transform = tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp);
+  } catch (const tf2::TransformException& error) {
+    throw EnvironmentUnavailableError("no transform from " + options_.sphere_frame +
+                                      " to the camera's optical frame: " + error.what());
+  }
+  if (transform_stamp != nullptr) *transform_stamp = transform.header.stamp;
+  return tf2::transformToEigen(transform);
+}
+
+ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
+  const Eigen::Isometry3d sphere_from_goal = sphere_.worldFromOptical(goal);
+  geometry_msgs::PoseStamped message;
+  message.header.stamp = ros::Time::now();
+  message.header.frame_id = options_.sphere_frame;
+  message.pose = toPose(sphere_from_goal);
+  goal_publisher_.publish(message);
+
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(options_.arrival_timeout_s);
+  double distance_m = -1.0, angle_rad = -1.0;
+  std::string lookup_error;
+  while (ros::ok()) {
+    try {
+      ros::Time stamp;
+      const Eigen::Isometry3d pose = cameraPose(ros::Time(0), &stamp);
+      distance_m = (pose.translation() - sphere_from_goal.translation()).norm();
+      angle_rad =
+          Eigen::AngleAxisd(sphere_from_goal.linear().transpose() * pose.linear()).angle();
+      // A transform stamped before the goal shows where the camera was, not where it is.
+      if (distance_m <= options_.position_tolerance_m &&
+          angle_rad <= options_.angle_tolerance_rad &&
+          (stamp >= message.header.stamp || stamp.isZero())) {
+        return stamp.isZero() ? ros::Time::now() : stamp;
+      }
+    } catch (const EnvironmentUnavailableError& error) {
+      lookup_error = error.what();
+    }
+    if (ros::WallTime::now() > deadline) break;
+    ros::WallDuration(options_.tf_poll_period_s).sleep();
+  }
+  std::ostringstream text;
+  text << "the camera did not reach the goal (azimuth " << goal.azimuth_rad << " rad, elevation "
+       << goal.elevation_rad << " rad) within " << options_.arrival_timeout_s << " s: ";
+  if (distance_m >= 0.0) {
+    text << "tf last showed it " << distance_m << " m and " << angle_rad
+         << " rad away (tolerances " << options_.position_tolerance_m << " m, "
+         << options_.angle_tolerance_rad << " rad); is the robot taking goals on "
+         << goal_publisher_.getTopic() << "?";
+  } else {
+    text << lookup_error;
+  }
+  throw EnvironmentUnavailableError(text.str());
+}
+
+std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
+                                           CameraObservation& observation) {
+  namespace enc = sensor_msgs::image_encodings;
+  const sensor_msgs::Image& rgb_message = *frame.rgb;
+  if (rgb_message.encoding != enc::RGB8 && rgb_message.encoding != enc::BGR8) {
+    throw InvalidArgumentError("colour image encoding " + rgb_message.encoding +
+                               ", expected rgb8 or bgr8");
+  }
+  toMetricDepth(*frame.depth, depth_m_);
+  if (depth_m_.cols != static_cast<int>(rgb_message.width) ||
+      depth_m_.rows != static_cast<int>(rgb_message.height)) {
+    throw InvalidArgumentError("depth is " + std::to_string(depth_m_.cols) + " x " +
+                               std::to_string(depth_m_.rows) + ", colour " +
+                               std::to_string(rgb_message.width) + " x " +
+                               std::to_string(rgb_message.height) +
+                               ": give depth registered to the colour image (e.g. "
+                               "realsense2_camera's aligned_depth_to_color)");
+  }
+  const cv::Rect region = options_.square_crop
+                              ? centralSquare(depth_m_.cols, depth_m_.rows)
+                              : cv::Rect(0, 0, depth_m_.cols, depth_m_.rows);
+  const cv::Mat rgb_in = matOf(rgb_message, CV_8UC3)(region);
+  if (rgb_message.encoding == enc::BGR8) {
+    cv::cvtColor(rgb_in, rgb_, cv::COLOR_BGR2RGB);
+  } else {
+    rgb_in.copyTo(rgb_);
+  }
+  const cv::Mat depth = depth_m_(region);
+
+  std_msgs::Header header = rgb_message.header;
+  observation.header = header;
+  fillImage(rgb_, header, observation.rgb);
+  fillImage(depth, header, observation.depth);
+  observation.camera_info = *frame.info;
+  observation.camera_info.header = header;
+  if (options_.square_crop) {
+    // The crop moves the principal point; the projection keeps its focal lengths.
+    observation.camera_info.width = region.width;
+    observation.camera_info.height = region.height;
+    observation.camera_info.K[2] -= region.x;
+    observation.camera_info.K[5] -= region.y;
+    observation.camera_info.P[2] -= region.x;
+    observation.camera_info.P[6] -= region.y;
+    observation.camera_info.roi = sensor_msgs::RegionOfInterest();
+  }
+
+  // The pose at the frame's stamp, or the latest where tf cannot say (it has not caught up).
+  Eigen::Isometry3d sphere_from_optical;
+  try {
+    sphere_from_optical = cameraPose(header.stamp);
+  } catch (const EnvironmentUnavailableError&) {
+    sphere_from_optical = cameraPose(ros::Time(0));
+  }
+  observation.camera_pose.header.stamp = header.stamp;
+  observation.camera_pose.header.frame_id = options_.sphere_frame;
+  observation.camera_pose.pose = toPose(sphere_from_optical);
+  const SphericalPose pose = sphericalPoseOf(sphere_from_optical.translation());
+  observation.azimuth = pose.azimuth_rad;
+  observation.elevation = pose.elevation_rad;
+  observation.step_index = step_index;
+  observation.instance_mask = sensor_msgs::Image();
+  observation.object_ids.clear();
+  observation.object_categories.clear();
+  observation.occlusion.pairs.clear();
+
+  if (!estimator_) {
+    observation.occlusion_source = CameraObservation::UNAVAILABLE;
+    observation.occlusion.total_pixels = -1;
+    observation.occlusion.occluded_area_pixels = -1;
+    observation.occlusion.union_pixels = -1;
+    observation.occlusion_mask = sensor_msgs::Image();
+    return -1;
+  }
+  const std::int64_t estimate = estimator_->estimate(rgb_, depth, mask_).occluded_pixels;
+  observation.occlusion_source = CameraObservation::ESTIMATED;
+  // The network predicts where silhouettes overlap, not how many overlap there: the area stands
+  // for L as well.
+  observation.occlusion.total_pixels = estimate;
+  observation.occlusion.occluded_area_pixels = estimate;
+  observation.occlusion.union_pixels = -1;
+  fillImage(mask_, header, observation.occlusion_mask);
+  return estimate;
+}
+
+bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
+  response.status = runWithStatus([&] {
+    ros::Time start = ros::Time::now();
+    if (scene_client_) {
+      Reset scene;
+      scene.request = request;
+      if (!scene_client_.call(scene)) {
+        throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
+                                          " could not be called");
+      }
+      throwForStatus(scene.response.status, "the scene service refused");
+      start = ros::Time::now();  // frames from before the scene was arranged do not count
+    }
+    if (request.set_start_elevation &&
+        !(std::abs(request.start_elevation) <= options_.elevation_limit_rad)) {
+      throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
+    }
+    if (request.set_start_azimuth || request.set_start_elevation) {
+      if (!std::isfinite(request.start_azimuth) || !std::isfinite(request.start_elevation)) {
+        throw InvalidArgumentError("start azimuth and elevation must be finite");
+      }
+      waitForFrame(ros::Time(0));  // the optical frame's name comes with the images
+      const SphericalPose now = sphericalPoseOf(cameraPose(ros::Time(0)).translation());
+      const SphericalPose goal =
+          sphere_.normalized({request.set_start_azimuth ? request.start_azimuth : now.azimuth_rad,
+                              request.set_start_elevation ? request.start_elevation
+                                                          : now.elevation_rad});
+      start = moveTo(goal);
+    }
+    const Frame frame = waitForFrame(start + ros::Duration(options_.settle_time_s));
+    const std::int64_t estimate = fillObservation(frame, 0, response.observation);
+    // Z of the paper's reward, intersection-normalised: the union of the silhouettes cannot be
+    // estimated. Never below 1.
+    reward_normalizer_ = std::max<double>(1.0, static_cast<double>(estimate));
+    last_estimate_px_ = estimate;
+    clear_views_ = estimator_ && estimate <= options_.occlusion_threshold_px ? 1 : 0;
+    step_index_ = 0;
+    has_episode_ = true;
+    episode_over_ = false;
+  });
+  if (response.status.code != Status::OK) {
+    ROS_WARN_STREAM("reset refused: " << response.status.message);
+  }
+  return true;
+}
+
+bool CameraBridge::step(Step::Request& request, Step::Response& response) {
+  const auto started = std::chrono::steady_clock::now();
+  double robot_s = 0.0, frame_s = 0.0;
+  response.status = runWithStatus([&] {
+    if (!has_episode_) throw InvalidStateError("step before any reset: call reset first");
+    if (episode_over_) {
+      throw InvalidStateError("the episode has ended (terminated or truncated): call reset");
+    }
+    Action action;
+    action.d_azimuth_rad = request.action.d_azimuth;
+    action.d_elevation_rad = request.action.d_elevation;
+    const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
+    // From where the camera really is, so that a robot's errors do not add up.
+    const SphericalPose now = sphericalPoseOf(cameraPose(ros::Time(0)).translation());
+    const SphericalPose goal = sphere_.moved(now, move.d_azimuth_rad, move.d_elevation_rad);
+
+    auto waited = std::chrono::steady_clock::now();
+    const ros::Time arrived = moveTo(goal);
+    robot_s = secondsSince(waited);
+    waited = std::chrono::steady_clock::now();
+    const Frame frame = waitForFrame(arrived + ros::Duration(options_.settle_time_s));
+    frame_s = secondsSince(waited);
+
+    const std::int64_t estimate = fillObservation(frame, step_index_ + 1, response.observation);
+    // Only now does the episode change: every error above leaves it as it was.
+    ++step_index_;
+    if (estimator_) {
+      clear_views_ = estimate <= options_.occlusion_threshold_px ? clear_views_ + 1 : 0;
+      response.terminated = clear_views_ >= options_.confirm_views;
+      response.reward =
+          static_cast<double>(last_estimate_px_ - estimate) / reward_normalizer_ +
+          (response.terminated ? options_.success_bonus : options_.step_penalty);
+    }
+    response.truncated = !response.terminated && step_index_ >= options_.max_steps;
+    response.occlusion_pixels = estimate;
+    last_estimate_px_ = estimate;
+    episode_over_ = response.terminated || response.truncated;
+  });
+  if (response.status.code != Status::OK) {
+    ROS_WARN_STREAM("step refused: " << response.status.message);
+  } else {
+    noteStepTiming(secondsSince(started) - robot_s - frame_s, robot_s, frame_s);
+  }
+  return true;
+}
+
+void CameraBridge::noteStepTiming(double overhead_s, double robot_s, double frame_s) {
+  overhead_s_.push_back(overhead_s);
+  robot_s_.push_back(robot_s);
+  frame_s_.push_back(frame_s);
+  if (overhead_s_.size() < kTimingWindow) return;
+  ROS_INFO_STREAM("camera bridge, median of the last "
+                  << kTimingWindow << " steps: own work " << milliseconds(median(overhead_s_))
+                  << " (goal, pose, conversion" << (estimator_ ? ", estimate" : "")
+                  << "); waiting for the robot " << milliseconds(median(robot_s_))
+                  << ", for the frame after arrival " << milliseconds(median(frame_s_)));
+  overhead_s_.clear();
+  robot_s_.clear();
+  frame_s_.clear();
+}
+
+}  // namespace occlusion_env

@@ -1,0 +1,235 @@
+// occlusion_bridge_calibration: chooses the camera bridge's stopping rule on validation scenes.
+// Behind the bridge no simulator says when the view is clear: the bridge ends an episode when the
+// network's estimated occlusion falls to ~occlusion_threshold pixels or fewer. This tool runs an
+// agent on simulated scenes without the truth's stop, estimates the occlusion of every view as
+// the bridge does, and prints for each candidate threshold how often the episode would have
+// stopped on a view that is truly clear, stopped too early, or run to the step limit.
+//   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
+#include <algorithm>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
+#include "occlusion_env/tools/arguments.hpp"
+
+namespace {
+
+constexpr const char* kUsage = R"(Usage: occlusion_bridge_calibration [options]
+Runs an agent on validation scenes as it would run behind the camera bridge (the episode does not
+stop when the view is truly clear), estimates every view's occlusion with the network, and prints,
+for each rule, what the bridge would do: stop when the estimate (pixels above the probability)
+has been at most the threshold on the last confirm-views views.
+Seeds must lie below 1,000,000: thresholds are chosen on validation scenes, never on test scenes.
+
+Options:
+  --agent NAME        the agent that moves (default predicted_escape)
+  --model PATH        the network for the estimate, and the agent's model if it needs one
+                      (default: the shipped models/multitask_unet64.pt)
+  --scenes N          number of scenes (default 50)
+  --first-seed N      (default 900000: the validation range 900,000-999,999)
+  --max-steps N       steps per episode (default 50)
+  --thresholds A,B..  candidate ~occlusion_threshold values [px at the image's resolution]
+                      (default 0,16,64,256)
+  --probabilities ..  candidate ~occlusion_probability values (default 0.1,0.2,0.3,0.5)
+  --confirm-views ..  candidate ~confirm_views values: the estimate must be at or below the
+                      threshold on this many views in a row (default 1,2,3)
+  --source S          embedded | sweethome3d (default sweethome3d)
+  --category C        repeatable (default chair and table)
+  --model-split S     all | train | test (default train: the models the network was trained on)
+  --size N            image width and height [px] (default 256)
+  --help              this text
+)";
+
+[[noreturn]] void fail(const std::string& message) {
+  std::cerr << "occlusion_bridge_calibration: " << message << "\n(--help lists the options)\n";
+  std::exit(2);
+}
+
+struct Arguments {
+  occlusion_env::EnvironmentOptions options;
+  std::string agent = "predicted_escape";
+  std::string model;
+  int scenes = 50;
+  long long first_seed = 900000;
+  int max_steps = 50;
+  std::vector<double> thresholds = {0, 16, 64, 256};
+  std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
+  std::vector<double> confirm_views = {1, 2, 3};
+};
+
+Arguments parse(int argc, char** argv) {
+  Arguments args;
+  args.options.catalog.source = "sweethome3d";
+  args.options.scene.model_split = occlusion_env::ModelSplit::kTrain;
+  std::vector<std::string> categories;
+  occlusion_env::tools::ArgumentReader reader(argc, argv);
+  try {
+    while (reader.next()) {
+      const std::string& flag = reader.flag();
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        std::exit(0);
+      } else if (flag == "--agent") {
+        args.agent = reader.text();
+      } else if (flag == "--model") {
+        args.model = reader.text();
+      } else if (flag == "--scenes") {
+        args.scenes = static_cast<int>(reader.integer(1, 100000));
+      } else if (flag == "--first-seed") {
+        args.first_seed = reader.integer(0, 999999);
+      } else if (flag == "--max-steps") {
+        args.max_steps = static_cast<int>(reader.integer(1, 100000));
+      } else if (flag == "--thresholds") {
+        args.thresholds = reader.numbers(0.0, 1e9);
+      } else if (flag == "--probabilities") {
+        args.probabilities = reader.numbers(1e-6, 1.0 - 1e-6);
+      } else if (flag == "--confirm-views") {
+        args.confirm_views = reader.numbers(1, 1000);
+      } else if (flag == "--source") {
+        args.options.catalog.source = reader.text();
+      } else if (flag == "--category") {
+        categories.push_back(reader.text());
+      } else if (flag == "--model-split") {
+        args.options.scene.model_split = occlusion_env::parseModelSplit(reader.text());
+      } else if (flag == "--size") {
+        args.options.width = args.options.height = static_cast<int>(reader.integer(64, 1024));
+      } else {
+        reader.unknown();
+      }
+    }
+  } catch (const std::exception& error) {
+    fail(error.what());
+  }
+  if (args.first_seed + args.scenes > static_cast<long long>(occlusion_env::kFirstTestSeed)) {
+    fail("seeds " + std::to_string(args.first_seed) + ".." +
+         std::to_string(args.first_seed + args.scenes - 1) +
+         " reach the test range (>= 1,000,000): choose thresholds on validation scenes");
+  }
+  args.options.scene.categories =
+      categories.empty() ? std::vector<std::string>{"chair", "table"} : categories;
+  if (args.model.empty()) args.model = occlusion_env::learning::defaultModelPath();
+  return args;
+}
+
+// One view of an episode: the truth and the estimate at each probability threshold.
+struct View {
+  std::int64_t true_pixels = 0;
+  std::vector<std::int64_t> estimated_pixels;  // per Arguments::probabilities
+};
+
+// Where the bridge's rule stops on `path`: the first view after the start whose estimate and the
+// confirm - 1 views before it (the start view included) are at most `threshold`; path.size()
+// when it never does.
+std::size_t stopOf(const std::vector<View>& path, std::size_t probability, double threshold,
+                   int confirm) {
+  int run = 0;
+  for (std::size_t t = 0; t < path.size(); ++t) {
+    run = static_cast<double>(path[t].estimated_pixels[probability]) <= threshold ? run + 1 : 0;
+    if (run >= confirm && t >= 1) return t;  // only a step ends an episode
+  }
+  return path.size();
+}
+
+int run(const Arguments& args) {
+  using namespace occlusion_env;
+  const AgentRegistry registry = learning::learningAgents();
+  Environment environment(args.options);
+  const std::unique_ptr<Agent> agent = registry.make(args.agent, {environment, args.model});
+  const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
+  std::vector<learning::OcclusionEstimator> estimators;
+  for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
+  cv::Mat mask;
+
+  // views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
+  std::vector<std::vector<View>> views(args.scenes);
+  for (int scene = 0; scene < args.scenes; ++scene) {
+    const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
+    ResetOptions reset;
+    reset.start_azimuth_rad = 0.0;
+    StepInfo info = environment.reset(seed, reset).info;
+    agent->reset(seed);
+    for (int t = 0;; ++t) {
+      const Observation& observation = environment.observation();
+      View view;
+      view.true_pixels = info.occlusion.total_pixels;
+      for (learning::OcclusionEstimator& estimator : estimators) {
+        view.estimated_pixels.push_back(
+            estimator.estimate(observation.rgb, observation.depth, mask).occluded_pixels);
+      }
+      views[scene].push_back(view);
+      if (t == args.max_steps) break;
+      const Action move = cameraMoveFor(agent->act(observation, info),
+                                        environment.options().step_size_rad,
+                                        environment.options().normalize_action);
+      info = environment.viewFrom(environment.camera().moved(info.pose, move.d_azimuth_rad,
+                                                             move.d_elevation_rad));
+      info.step_index = t + 1;
+    }
+    std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
+  }
+  std::cerr << "\n";
+
+  int reached = 0;  // scenes whose path passes a truly clear view
+  for (const auto& path : views) {
+    reached += std::any_of(path.begin(), path.end(), [](const View& v) { return v.true_pixels == 0; });
+  }
+  std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
+            << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
+            << ", split " << toString(args.options.scene.model_split) << ", "
+            << args.options.width << " px), " << args.max_steps << " steps at most\n"
+            << "estimate: " << args.model << "\n"
+            << "its path passes a truly clear view in " << reached << " of " << args.scenes
+            << " scenes (the simulator would stop there)\n\n"
+            << "| probability | threshold [px] | confirm views | stops on a clear view | stops "
+               "too early (median true L there [px]) | never stops | mean steps to the stop |\n"
+            << "|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (std::size_t p = 0; p < args.probabilities.size(); ++p) {
+    for (const double threshold : args.thresholds) {
+      for (const double confirm : args.confirm_views) {
+        int clear = 0, never = 0;
+        std::vector<std::int64_t> early_pixels;
+        double steps = 0.0;
+        for (const auto& path : views) {
+          const std::size_t stop = stopOf(path, p, threshold, static_cast<int>(confirm));
+          if (stop == path.size()) {
+            ++never;
+            steps += args.max_steps;
+          } else if (path[stop].true_pixels == 0) {
+            ++clear;
+            steps += static_cast<double>(stop);
+          } else {
+            early_pixels.push_back(path[stop].true_pixels);
+            steps += static_cast<double>(stop);
+          }
+        }
+        std::sort(early_pixels.begin(), early_pixels.end());
+        std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold) << " | " << confirm
+                  << " | " << clear << " | " << early_pixels.size();
+        if (!early_pixels.empty()) std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
+        std::cout << " | " << never << " | " << std::fixed << std::setprecision(1)
+                  << steps / args.scenes << std::defaultfloat << " |\n";
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Arguments args = parse(argc, argv);
+  try {
+    return run(args);
+  } catch (const std::exception& error) {
+    std::cerr << "occlusion_bridge_calibration: " << error.what() << "\n";
+    return 1;
+  }
+}
