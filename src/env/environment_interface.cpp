@@ -19,7 +19,7 @@ Action cameraMoveFor(const Action& action, double step_size_rad, bool normalize)
     const double unit_azimuth = action.d_azimuth_rad / largest;
     const double unit_elevation = action.d_elevation_rad / largest;
     const double unit_length = std::hypot(unit_azimuth, unit_elevation);  // in [1, sqrt 2]
-    const double length = largest * unit_length;                           // may be inf
+    const double length = largest * unit_length;                          // may be inf
     if (normalize || length > step_size_rad) {
       move.d_azimuth_rad = unit_azimuth / unit_length * step_size_rad;
       move.d_elevation_rad = unit_elevation / unit_length * step_size_rad;

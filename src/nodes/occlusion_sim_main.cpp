@@ -34,9 +34,8 @@ int main(int argc, char** argv) {
     ROS_INFO_STREAM("occlusion_sim ready: services "
                     << node.resolveName(names::kResetService) << ", "
                     << node.resolveName(names::kStepService)
-                    << (options.offer_gradient
-                            ? ", " + node.resolveName(names::kGradientService)
-                            : std::string(" (no gradient service)")));
+                    << (options.offer_gradient ? ", " + node.resolveName(names::kGradientService)
+                                               : std::string(" (no gradient service)")));
     ros::spin();
   } catch (const std::exception& error) {
     ROS_FATAL_STREAM("occlusion_sim cannot start: " << error.what());

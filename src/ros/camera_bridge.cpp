@@ -1,8 +1,8 @@
 #include "occlusion_env/ros/camera_bridge.hpp"
 
-#include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -19,7 +19,8 @@
 namespace occlusion_env {
 namespace {
 
-constexpr std::size_t kTimingWindow = 50;  // steps per timing line in the log
+constexpr std::size_t kTimingWindow = 20;  // steps per timing line in the log
+constexpr double kTfWait_s = 0.1;          // how long tf may lag behind a frame
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -83,15 +84,28 @@ void CameraBridgeOptions::validate() const {
 }
 
 const std::vector<std::string>& cameraBridgeParameterNames() {
-  static const std::vector<std::string> kNames = {
-      "sphere_frame",       "optical_frame",      "radius",
-      "elevation_limit",    "step_size",          "normalize_action",
-      "max_steps",          "position_tolerance", "angle_tolerance",
-      "arrival_timeout",    "frame_timeout",      "settle_time",
-      "sync_slop",          "tf_poll_period",     "square_crop",
-      "scene_service",      "model",              "occlusion_probability",
-      "occlusion_threshold", "confirm_views",     "success_bonus",
-      "step_penalty"};
+  static const std::vector<std::string> kNames = {"sphere_frame",
+                                                  "optical_frame",
+                                                  "radius",
+                                                  "elevation_limit",
+                                                  "step_size",
+                                                  "normalize_action",
+                                                  "max_steps",
+                                                  "position_tolerance",
+                                                  "angle_tolerance",
+                                                  "arrival_timeout",
+                                                  "frame_timeout",
+                                                  "settle_time",
+                                                  "sync_slop",
+                                                  "tf_poll_period",
+                                                  "square_crop",
+                                                  "scene_service",
+                                                  "model",
+                                                  "occlusion_probability",
+                                                  "occlusion_threshold",
+                                                  "confirm_views",
+                                                  "success_bonus",
+                                                  "step_penalty"};
   return kNames;
 }
 
@@ -225,6 +239,15 @@ Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* tr
   return tf2::transformToEigen(transform);
 }
 
+Eigen::Isometry3d CameraBridge::poseAt(const ros::Time& stamp) {
+  try {
+    return tf2::transformToEigen(tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp,
+                                                     ros::Duration(kTfWait_s)));
+  } catch (const tf2::TransformException&) {
+    return cameraPose(ros::Time(0));  // tf has not caught up with the frame: the latest
+  }
+}
+
 ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   const Eigen::Isometry3d sphere_from_goal = sphere_.worldFromOptical(goal);
   geometry_msgs::PoseStamped message;
@@ -233,7 +256,8 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   message.pose = toPose(sphere_from_goal);
   goal_publisher_.publish(message);
 
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(options_.arrival_timeout_s);
+  const ros::WallTime deadline =
+      ros::WallTime::now() + ros::WallDuration(options_.arrival_timeout_s);
   double distance_m = -1.0, angle_rad = -1.0;
   std::string lookup_error;
   while (ros::ok()) {
@@ -241,8 +265,7 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
       ros::Time stamp;
       const Eigen::Isometry3d pose = cameraPose(ros::Time(0), &stamp);
       distance_m = (pose.translation() - sphere_from_goal.translation()).norm();
-      angle_rad =
-          Eigen::AngleAxisd(sphere_from_goal.linear().transpose() * pose.linear()).angle();
+      angle_rad = Eigen::AngleAxisd(sphere_from_goal.linear().transpose() * pose.linear()).angle();
       // A transform stamped before the goal shows where the camera was, not where it is.
       if (distance_m <= options_.position_tolerance_m &&
           angle_rad <= options_.angle_tolerance_rad &&
@@ -259,10 +282,9 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   text << "the camera did not reach the goal (azimuth " << goal.azimuth_rad << " rad, elevation "
        << goal.elevation_rad << " rad) within " << options_.arrival_timeout_s << " s: ";
   if (distance_m >= 0.0) {
-    text << "tf last showed it " << distance_m << " m and " << angle_rad
-         << " rad away (tolerances " << options_.position_tolerance_m << " m, "
-         << options_.angle_tolerance_rad << " rad); is the robot taking goals on "
-         << goal_publisher_.getTopic() << "?";
+    text << "tf last showed it " << distance_m << " m and " << angle_rad << " rad away (tolerances "
+         << options_.position_tolerance_m << " m, " << options_.angle_tolerance_rad
+         << " rad); is the robot taking goals on " << goal_publisher_.getTopic() << "?";
   } else {
     text << lookup_error;
   }
@@ -287,9 +309,8 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
                                ": give depth registered to the colour image (e.g. "
                                "realsense2_camera's aligned_depth_to_color)");
   }
-  const cv::Rect region = options_.square_crop
-                              ? centralSquare(depth_m_.cols, depth_m_.rows)
-                              : cv::Rect(0, 0, depth_m_.cols, depth_m_.rows);
+  const cv::Rect region = options_.square_crop ? centralSquare(depth_m_.cols, depth_m_.rows)
+                                               : cv::Rect(0, 0, depth_m_.cols, depth_m_.rows);
   const cv::Mat rgb_in = matOf(rgb_message, CV_8UC3)(region);
   if (rgb_message.encoding == enc::BGR8) {
     cv::cvtColor(rgb_in, rgb_, cv::COLOR_BGR2RGB);
@@ -315,13 +336,7 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
     observation.camera_info.roi = sensor_msgs::RegionOfInterest();
   }
 
-  // The pose at the frame's stamp, or the latest where tf cannot say (it has not caught up).
-  Eigen::Isometry3d sphere_from_optical;
-  try {
-    sphere_from_optical = cameraPose(header.stamp);
-  } catch (const EnvironmentUnavailableError&) {
-    sphere_from_optical = cameraPose(ros::Time(0));
-  }
+  const Eigen::Isometry3d sphere_from_optical = poseAt(header.stamp);
   observation.camera_pose.header.stamp = header.stamp;
   observation.camera_pose.header.frame_id = options_.sphere_frame;
   observation.camera_pose.pose = toPose(sphere_from_optical);
@@ -357,6 +372,12 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
   response.status = runWithStatus([&] {
     ros::Time start = ros::Time::now();
     if (scene_client_) {
+      // The scene's node may still be starting (loading its objects).
+      if (!scene_client_.waitForExistence(ros::Duration(options_.arrival_timeout_s))) {
+        throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
+                                          " did not appear within " +
+                                          std::to_string(options_.arrival_timeout_s) + " s");
+      }
       Reset scene;
       scene.request = request;
       if (!scene_client_.call(scene)) {
@@ -374,12 +395,13 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
       if (!std::isfinite(request.start_azimuth) || !std::isfinite(request.start_elevation)) {
         throw InvalidArgumentError("start azimuth and elevation must be finite");
       }
-      waitForFrame(ros::Time(0));  // the optical frame's name comes with the images
-      const SphericalPose now = sphericalPoseOf(cameraPose(ros::Time(0)).translation());
-      const SphericalPose goal =
-          sphere_.normalized({request.set_start_azimuth ? request.start_azimuth : now.azimuth_rad,
-                              request.set_start_elevation ? request.start_elevation
-                                                          : now.elevation_rad});
+      // Where the camera is now (after the scene service, which may have moved it): at a frame
+      // from after the request. The angle not asked for stays as it is.
+      const Frame current = waitForFrame(start);
+      const SphericalPose now = sphericalPoseOf(poseAt(current.rgb->header.stamp).translation());
+      const SphericalPose goal = sphere_.normalized(
+          {request.set_start_azimuth ? request.start_azimuth : now.azimuth_rad,
+           request.set_start_elevation ? request.start_elevation : now.elevation_rad});
       start = moveTo(goal);
     }
     const Frame frame = waitForFrame(start + ros::Duration(options_.settle_time_s));
@@ -428,9 +450,8 @@ bool CameraBridge::step(Step::Request& request, Step::Response& response) {
     if (estimator_) {
       clear_views_ = estimate <= options_.occlusion_threshold_px ? clear_views_ + 1 : 0;
       response.terminated = clear_views_ >= options_.confirm_views;
-      response.reward =
-          static_cast<double>(last_estimate_px_ - estimate) / reward_normalizer_ +
-          (response.terminated ? options_.success_bonus : options_.step_penalty);
+      response.reward = static_cast<double>(last_estimate_px_ - estimate) / reward_normalizer_ +
+                        (response.terminated ? options_.success_bonus : options_.step_penalty);
     }
     response.truncated = !response.terminated && step_index_ >= options_.max_steps;
     response.occlusion_pixels = estimate;

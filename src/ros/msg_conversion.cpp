@@ -123,6 +123,14 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& parent_from
   return transform;
 }
 
+geometry_msgs::TransformStamped bodyToOpticalTransform(const ros::Time& stamp,
+                                                       const std::string& camera_frame,
+                                                       const std::string& optical_frame) {
+  Eigen::Isometry3d body_from_optical = Eigen::Isometry3d::Identity();
+  body_from_optical.linear() = bodyFromOpticalRotation();
+  return toTransform(body_from_optical, stamp, camera_frame, optical_frame);
+}
+
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats) {
   OcclusionFigures figures;
   figures.total_pixels = stats.total_pixels;

@@ -50,11 +50,8 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
       names::kSceneMarkersTopic, 1, /*latch=*/true);
   step_outcome_publisher_ = node_.advertise<StepOutcome>(names::kStepOutcomeTopic, 10);
 
-  // The optical frame is fixed to the body frame; only world -> body moves.
-  Eigen::Isometry3d body_from_optical = Eigen::Isometry3d::Identity();
-  body_from_optical.linear() = bodyFromOpticalRotation();
-  static_transform_broadcaster_.sendTransform(toTransform(
-      body_from_optical, ros::Time::now(), options_.camera_frame, options_.optical_frame));
+  static_transform_broadcaster_.sendTransform(
+      bodyToOpticalTransform(ros::Time::now(), options_.camera_frame, options_.optical_frame));
 
   if (options_.start_seed >= 0) {
     Reset::Request request;

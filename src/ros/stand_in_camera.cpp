@@ -34,10 +34,8 @@ StandInCamera::StandInCamera(const SimulatorOptions& options, ros::NodeHandle no
   ground_truth_publisher_ =
       node_.advertise<GroundTruthView>(names::kGroundTruthViewTopic, 10, /*latch=*/true);
 
-  Eigen::Isometry3d body_from_optical = Eigen::Isometry3d::Identity();
-  body_from_optical.linear() = bodyFromOpticalRotation();
-  static_transform_broadcaster_.sendTransform(toTransform(
-      body_from_optical, ros::Time::now(), options_.camera_frame, options_.optical_frame));
+  static_transform_broadcaster_.sendTransform(
+      bodyToOpticalTransform(ros::Time::now(), options_.camera_frame, options_.optical_frame));
 
   if (options_.start_seed >= 0) {
     Reset::Request request;

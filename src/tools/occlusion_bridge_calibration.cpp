@@ -166,11 +166,11 @@ int run(const Arguments& args) {
       }
       views[scene].push_back(view);
       if (t == args.max_steps) break;
-      const Action move = cameraMoveFor(agent->act(observation, info),
-                                        environment.options().step_size_rad,
-                                        environment.options().normalize_action);
-      info = environment.viewFrom(environment.camera().moved(info.pose, move.d_azimuth_rad,
-                                                             move.d_elevation_rad));
+      const Action move =
+          cameraMoveFor(agent->act(observation, info), environment.options().step_size_rad,
+                        environment.options().normalize_action);
+      info = environment.viewFrom(
+          environment.camera().moved(info.pose, move.d_azimuth_rad, move.d_elevation_rad));
       info.step_index = t + 1;
     }
     std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
@@ -179,12 +179,13 @@ int run(const Arguments& args) {
 
   int reached = 0;  // scenes whose path passes a truly clear view
   for (const auto& path : views) {
-    reached += std::any_of(path.begin(), path.end(), [](const View& v) { return v.true_pixels == 0; });
+    reached +=
+        std::any_of(path.begin(), path.end(), [](const View& v) { return v.true_pixels == 0; });
   }
   std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
             << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
-            << ", split " << toString(args.options.scene.model_split) << ", "
-            << args.options.width << " px), " << args.max_steps << " steps at most\n"
+            << ", split " << toString(args.options.scene.model_split) << ", " << args.options.width
+            << " px), " << args.max_steps << " steps at most\n"
             << "estimate: " << args.model << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
             << " scenes (the simulator would stop there)\n\n"
@@ -211,9 +212,10 @@ int run(const Arguments& args) {
           }
         }
         std::sort(early_pixels.begin(), early_pixels.end());
-        std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold) << " | " << confirm
-                  << " | " << clear << " | " << early_pixels.size();
-        if (!early_pixels.empty()) std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
+        std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold)
+                  << " | " << confirm << " | " << clear << " | " << early_pixels.size();
+        if (!early_pixels.empty())
+          std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
         std::cout << " | " << never << " | " << std::fixed << std::setprecision(1)
                   << steps / args.scenes << std::defaultfloat << " |\n";
       }

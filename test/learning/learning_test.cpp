@@ -2,6 +2,7 @@
 // loss falls and that resumes, the model file's errors, and the learned agents' inference.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -11,6 +12,7 @@
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
 #include "occlusion_env/learning/training.hpp"
 
 namespace occlusion_env {
@@ -157,6 +159,52 @@ TEST(LearningTest, NetworkInputFollowsTheConvention) {
   EXPECT_GT(out[3 * 32 * 32], 0.0f);            // the NaN (far) pixel pulls its area up
   EXPECT_THROW(writeNetworkInput(rgb, cv::Mat(64, 64, CV_8UC1), 32, scratch, out.data()),
                InvalidArgumentError);
+}
+
+// A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed).
+std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
+  NetworkConfig config;
+  config.input_size = 32;
+  auto model = std::make_shared<LoadedModel>();
+  model->network = MultiTaskUNet(config);
+  model->network->eval();
+  torch::NoGradGuard no_grad;
+  for (auto& parameter : model->network->named_parameters()) {
+    if (parameter.key() == "occlusion_head.weight") parameter.value().zero_();
+    if (parameter.key() == "occlusion_head.bias") parameter.value().fill_(logit);
+  }
+  return model;
+}
+
+TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
+  const cv::Mat rgb(48, 80, CV_8UC3, cv::Scalar(90, 120, 30));  // not square, not 32 px
+  const cv::Mat depth(48, 80, CV_32FC1, cv::Scalar(3.0f));
+  cv::Mat mask;
+  // Logit 1: probability 0.73, occluded at the threshold 0.5, not at 0.9.
+  OcclusionEstimator at_half(constantOcclusionModel(1.0f), 0.5);
+  const OcclusionEstimate all = at_half.estimate(rgb, depth, mask);
+  EXPECT_EQ(mask.size(), rgb.size());
+  EXPECT_EQ(mask.type(), CV_8UC1);
+  EXPECT_EQ(all.occluded_pixels, 48 * 80);
+  EXPECT_EQ(cv::countNonZero(mask == 255), 48 * 80);
+  EXPECT_NEAR(all.mean_probability, 1.0 / (1.0 + std::exp(-1.0)), 1e-5);
+  OcclusionEstimator at_ninety(constantOcclusionModel(1.0f), 0.9);
+  EXPECT_EQ(at_ninety.estimate(rgb, depth, mask).occluded_pixels, 0);
+  EXPECT_EQ(cv::countNonZero(mask), 0);
+
+  // A real network's map: the count is the mask's, whatever it predicts.
+  NetworkConfig config;
+  config.input_size = 32;
+  auto model = std::make_shared<LoadedModel>();
+  model->network = MultiTaskUNet(config);
+  model->network->eval();
+  OcclusionEstimator estimator(model);
+  const OcclusionEstimate some = estimator.estimate(rgb, depth, mask);
+  EXPECT_EQ(some.occluded_pixels, cv::countNonZero(mask));
+
+  EXPECT_THROW(OcclusionEstimator(nullptr), InvalidArgumentError);
+  EXPECT_THROW(OcclusionEstimator(model, 1.0), InvalidArgumentError);
+  EXPECT_THROW(OcclusionEstimator(model, 0.0), InvalidArgumentError);
 }
 
 }  // namespace

@@ -52,24 +52,24 @@ struct CameraBridgeOptions {
   int max_steps = 50;
 
   // Arrival and frames.
-  double position_tolerance_m = 0.01;   // the camera is there when tf is this close ...
-  double angle_tolerance_rad = 0.02;    // ... in position and in orientation
-  double arrival_timeout_s = 10.0;      // how long a move may take
-  double frame_timeout_s = 2.0;         // how long after arrival a frame may take
-  double settle_time_s = 0.0;           // frames stamped before arrival + this are not used
-  double sync_slop_s = 0.02;            // RGB, depth and camera_info within this count as one
-  double tf_poll_period_s = 0.002;      // how often tf is looked at while the robot moves
-  bool square_crop = true;              // agents get the central square, as in training
+  double position_tolerance_m = 0.01;  // the camera is there when tf is this close ...
+  double angle_tolerance_rad = 0.02;   // ... in position and in orientation
+  double arrival_timeout_s = 10.0;     // how long a move may take
+  double frame_timeout_s = 2.0;        // how long after arrival a frame may take
+  double settle_time_s = 0.0;          // frames stamped before arrival + this are not used
+  double sync_slop_s = 0.02;           // RGB, depth and camera_info within this count as one
+  double tf_poll_period_s = 0.002;     // how often tf is looked at while the robot moves
+  bool square_crop = true;             // agents get the central square, as in training
 
   // Episodes and what is estimated.
-  std::string scene_service;            // "": none; else a Reset service called at each reset
-  std::string model_path;               // "": no estimate; else a multi-task network model
+  std::string scene_service;  // "": none; else a Reset service called at each reset
+  std::string model_path;     // "": no estimate; else a multi-task network model
   // The stopping rule, chosen on validation scenes by occlusion_bridge_calibration (doc/
   // CAMERA_BRIDGE.md): the network misses overlaps of a few pixels, so the estimate must stay
   // clear for several views while the agent moves on.
-  double occlusion_probability = 0.1;   // a pixel is occluded above this probability
+  double occlusion_probability = 0.1;       // a pixel is occluded above this probability
   std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate [px]
-  int confirm_views = 5;                // this many clear views in a row end an episode
+  int confirm_views = 5;                    // this many clear views in a row end an episode
   double success_bonus = 5.0;  // the reward of the estimate: (L_{t-1} - L_t) / max(1, L_0) + P
   double step_penalty = -0.2;
 
@@ -97,9 +97,9 @@ class CameraBridge {
   bool step(Step::Request& request, Step::Response& response);
 
  private:
-  using Sync = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image,
-                                                               sensor_msgs::Image,
-                                                               sensor_msgs::CameraInfo>;
+  using Sync =
+      message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::Image,
+                                                      sensor_msgs::CameraInfo>;
   struct Frame {
     sensor_msgs::ImageConstPtr rgb, depth;
     sensor_msgs::CameraInfoConstPtr info;
@@ -112,13 +112,15 @@ class CameraBridge {
   std::string opticalFrame();
   /// The optical frame in the sphere's frame at `stamp` (zero: the latest).
   Eigen::Isometry3d cameraPose(const ros::Time& stamp, ros::Time* transform_stamp = nullptr);
+  /// The optical frame at a frame's `stamp`, waiting briefly for tf to catch up; the latest
+  /// pose when it does not.
+  Eigen::Isometry3d poseAt(const ros::Time& stamp);
   /// Publishes the goal and waits until tf shows the camera there; returns the stamp of the
   /// transform that did. EnvironmentUnavailableError after the timeout.
   ros::Time moveTo(const SphericalPose& goal);
   /// Fills `observation` from `frame` (and estimates its occlusion); returns the estimate [px],
   /// -1 when there is no model.
-  std::int64_t fillObservation(const Frame& frame, int step_index,
-                               CameraObservation& observation);
+  std::int64_t fillObservation(const Frame& frame, int step_index, CameraObservation& observation);
   void noteStepTiming(double overhead_s, double robot_s, double frame_s);
 
   CameraBridgeOptions options_;
@@ -148,7 +150,7 @@ class CameraBridge {
   bool episode_over_ = false;
   int step_index_ = 0;
   std::int64_t last_estimate_px_ = -1;
-  int clear_views_ = 0;  // views in a row whose estimate is at or below the threshold
+  int clear_views_ = 0;             // views in a row whose estimate is at or below the threshold
   double reward_normalizer_ = 1.0;  // Z: the first view's estimate [px], at least 1
 
   // Reused buffers of fillObservation().

@@ -45,6 +45,12 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& parent_from
                                             const ros::Time& stamp, const std::string& parent,
                                             const std::string& child);
 
+/// The fixed transform from the camera's body frame to its optical frame (REP 103), for a static
+/// broadcaster: only world -> body moves.
+geometry_msgs::TransformStamped bodyToOpticalTransform(const ros::Time& stamp,
+                                                       const std::string& camera_frame,
+                                                       const std::string& optical_frame);
+
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats);
 
 /// Fills every field of `message` from the environment's current episode. `header` carries the

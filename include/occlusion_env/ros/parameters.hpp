@@ -57,9 +57,9 @@ struct SimulatorOptions {
   bool offer_gradient = true;    // false: no get_occlusion_gradient, as a real camera
 
   // ~mode camera: the simulator stands in for a real camera on a robot (ros/stand_in_camera.hpp).
-  std::string mode = "simulator";     // simulator | camera
-  double camera_rate_hz = 30.0;       // camera mode: frames per second, (0, 1000]
-  double motion_time_s = 0.05;        // camera mode: a goal is reached this long after it came
+  std::string mode = "simulator";        // simulator | camera
+  double camera_rate_hz = 30.0;          // camera mode: frames per second, (0, 1000]
+  double motion_time_s = 0.05;           // camera mode: a goal is reached this long after it came
   std::string depth_encoding = "32FC1";  // camera mode: 32FC1 [m] | 16UC1 [mm], 0 = no reading
   bool cameraMode() const { return mode == "camera"; }
 };
