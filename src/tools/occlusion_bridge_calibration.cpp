@@ -6,6 +6,7 @@
 // stopped on a view that is truly clear, stopped too early, or run to the step limit.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -41,6 +42,7 @@ Options:
   --probabilities ..  candidate ~occlusion_probability values (default 0.1,0.2,0.3,0.5)
   --confirm-views ..  candidate ~confirm_views values: the estimate must be at or below the
                       threshold on this many views in a row (default 1,2,3)
+  --millimetre-depth  round depth to millimetres first, as 16UC1 drivers send it
   --source S          embedded | sweethome3d (default sweethome3d)
   --category C        repeatable (default chair and table)
   --model-split S     all | train | test (default train: the models the network was trained on)
@@ -63,6 +65,7 @@ struct Arguments {
   std::vector<double> thresholds = {0, 16, 64, 256};
   std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
   std::vector<double> confirm_views = {1, 2, 3};
+  bool millimetre_depth = false;
 };
 
 Arguments parse(int argc, char** argv) {
@@ -93,6 +96,8 @@ Arguments parse(int argc, char** argv) {
         args.probabilities = reader.numbers(1e-6, 1.0 - 1e-6);
       } else if (flag == "--confirm-views") {
         args.confirm_views = reader.numbers(1, 1000);
+      } else if (flag == "--millimetre-depth") {
+        args.millimetre_depth = true;
       } else if (flag == "--source") {
         args.options.catalog.source = reader.text();
       } else if (flag == "--category") {
@@ -117,6 +122,21 @@ Arguments parse(int argc, char** argv) {
       categories.empty() ? std::vector<std::string>{"chair", "table"} : categories;
   if (args.model.empty()) args.model = occlusion_env::learning::defaultModelPath();
   return args;
+}
+
+// `depth_m` as a 16-bit millimetre camera gives it (REP 118's 16UC1, read back as metres):
+// rounded to millimetres, no reading (NaN) below half a millimetre.
+const cv::Mat& millimetreDepth(const cv::Mat& depth_m, cv::Mat& out) {
+  out.create(depth_m.size(), CV_32FC1);
+  for (int row = 0; row < depth_m.rows; ++row) {
+    const float* in = depth_m.ptr<float>(row);
+    float* rounded = out.ptr<float>(row);
+    for (int col = 0; col < depth_m.cols; ++col) {
+      const float mm = std::round(in[col] * 1000.0f);
+      rounded[col] = mm >= 1.0f && mm < 65536.0f ? mm * 0.001f : NAN;
+    }
+  }
+  return out;
 }
 
 // One view of an episode: the truth and the estimate at each probability threshold.
@@ -146,7 +166,7 @@ int run(const Arguments& args) {
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
   std::vector<learning::OcclusionEstimator> estimators;
   for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
-  cv::Mat mask;
+  cv::Mat mask, depth_mm;
 
   // views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
   std::vector<std::vector<View>> views(args.scenes);
@@ -157,7 +177,10 @@ int run(const Arguments& args) {
     StepInfo info = environment.reset(seed, reset).info;
     agent->reset(seed);
     for (int t = 0;; ++t) {
-      const Observation& observation = environment.observation();
+      Observation observation = environment.observation();  // headers, no copy
+      if (args.millimetre_depth) {
+        observation.depth = millimetreDepth(observation.depth, depth_mm);
+      }
       View view;
       view.true_pixels = info.occlusion.total_pixels;
       for (learning::OcclusionEstimator& estimator : estimators) {
@@ -177,18 +200,24 @@ int run(const Arguments& args) {
   }
   std::cerr << "\n";
 
-  int reached = 0;  // scenes whose path passes a truly clear view
+  int reached = 0;              // scenes whose path passes a truly clear view
+  double steps_to_clear = 0.0;  // to the first truly clear view; the limit where there is none
   for (const auto& path : views) {
-    reached +=
-        std::any_of(path.begin(), path.end(), [](const View& v) { return v.true_pixels == 0; });
+    const auto clear = std::find_if(path.begin() + 1, path.end(),
+                                    [](const View& v) { return v.true_pixels == 0; });
+    reached += clear != path.end();
+    steps_to_clear += clear != path.end() ? clear - path.begin() : args.max_steps;
   }
   std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
             << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
             << ", split " << toString(args.options.scene.model_split) << ", " << args.options.width
-            << " px), " << args.max_steps << " steps at most\n"
+            << " px" << (args.millimetre_depth ? ", depth in millimetres" : "") << "), "
+            << args.max_steps << " steps at most\n"
             << "estimate: " << args.model << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
-            << " scenes (the simulator would stop there)\n\n"
+            << " scenes, after " << std::fixed << std::setprecision(1)
+            << steps_to_clear / args.scenes << std::defaultfloat
+            << " steps on average (where the simulator stops)\n\n"
             << "| probability | threshold [px] | confirm views | stops on a clear view | stops "
                "too early (median true L there [px]) | never stops | mean steps to the stop |\n"
             << "|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -177,8 +177,11 @@ std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
 }
 
 TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
-  const cv::Mat rgb(48, 80, CV_8UC3, cv::Scalar(90, 120, 30));  // not square, not 32 px
-  const cv::Mat depth(48, 80, CV_32FC1, cv::Scalar(3.0f));
+  // Not square, not 32 px, and views into larger images (as the bridge's central square is).
+  const cv::Mat rgb_full(60, 100, CV_8UC3, cv::Scalar(90, 120, 30));
+  const cv::Mat depth_full(60, 100, CV_32FC1, cv::Scalar(3.0f));
+  const cv::Mat rgb = rgb_full(cv::Rect(10, 6, 80, 48));
+  const cv::Mat depth = depth_full(cv::Rect(10, 6, 80, 48));
   cv::Mat mask;
   // Logit 1: probability 0.73, occluded at the threshold 0.5, not at 0.9.
   OcclusionEstimator at_half(constantOcclusionModel(1.0f), 0.5);
