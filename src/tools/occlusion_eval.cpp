@@ -324,7 +324,8 @@ std::string severalModelsSweepMarkdown(const CommandLine& cl, const std::string&
   md << "\nMean steps over the " << plan.start_azimuths_rad.size()
      << " start azimuths per model (failures counted as the limit; `(n F)`: n failed)";
   if (std::find(agents.begin(), agents.end(), "oracle") != agents.end()) {
-    md << "; the oracle, a reference that renders other poses, gives the floor";
+    md << "; the oracle, a reference that renders other poses, gives the floor (its lattice "
+          "search bounds the fewest steps from above: an agent may beat it by a step)";
   }
   md << ":\n\n";
   md << "| Agent |";
