@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Plots of an occlusion_eval run (PNG): box plots of steps per agent, the BEST posterior of each
-pairwise mean difference (the paper's Figure A1 style) and the start-azimuth sweep (Figure 5).
+pairwise mean difference (the paper's Figure A1 style) and the start-azimuth sweep (Figure 5; a
+sweep over several models gets one panel per model, named from the <sweep>_models.csv beside it).
 
 Usage: plot_evaluation.py --out DIR [--prefix P] [--episodes episodes.csv] [--posterior best_mu_samples.csv
        --comparisons best_pairs.csv] [--sweep sweep_two_chairs.csv ...]
@@ -100,24 +101,108 @@ def plot_posteriors(posterior_csv, comparisons_csv, out_dir, prefix):
 
 
 def plot_sweep(sweep_csv, out_dir):
+    """Steps per start azimuth and agent; one panel per model when the sweep has several."""
     rows = read_rows(sweep_csv)
-    groups = by_agent(rows)
     scene_set = rows[0]["scene_set"] if rows else "sweep"
+    seeds = list(OrderedDict.fromkeys(r["scene_seed"] for r in rows))
+    if len(seeds) > 1:
+        return plot_sweep_models(rows, seeds, sweep_csv, out_dir)
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for agent, agent_rows in groups.items():
-        agent_rows.sort(key=lambda r: float(r["start_azimuth_rad"]))
-        x = [math.degrees(float(r["start_azimuth_rad"])) for r in agent_rows]
-        y = [counted_steps(r) for r in agent_rows]
-        line, = ax.plot(x, y, marker="o", label=agent)
-        failed = [(xi, yi) for xi, yi, r in zip(x, y, agent_rows) if r["success"] != "1"]
-        if failed:
-            ax.scatter(*zip(*failed), marker="x", s=60, color=line.get_color(),
-                       label=f"{agent}: failed (step limit)")
+    plot_sweep_lines(ax, by_agent(rows), agent_colours(rows), with_labels=True, markersize=6)
     ax.set_xlabel("start azimuth [deg]")
     ax.set_ylabel("steps to an unoccluded view")
     ax.set_title(f"Start-azimuth sweep: {scene_set.replace('sweep_', '')}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"{scene_set}.png")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return [path]
+
+
+def agent_colours(rows):
+    """Each agent's colour of the default cycle, by first appearance: the same in every panel.
+    The oracle (a reference, not a competitor) is black."""
+    cycle = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    competitors = [a for a in by_agent(rows) if a != "oracle"]
+    colours = {agent: cycle[k % len(cycle)] for k, agent in enumerate(competitors)}
+    if any(r["agent"] == "oracle" for r in rows):
+        colours["oracle"] = "black"
+    return colours
+
+
+def line_style(agent):
+    return "--" if agent == "oracle" else "-"
+
+
+def plot_sweep_lines(ax, groups, colours, with_labels, markersize):
+    """One line per agent (counted steps over the start azimuth [deg]), a cross at each failure."""
+    for agent, agent_rows in groups.items():
+        agent_rows = sorted(agent_rows, key=lambda r: float(r["start_azimuth_rad"]))
+        x = [math.degrees(float(r["start_azimuth_rad"])) for r in agent_rows]
+        y = [counted_steps(r) for r in agent_rows]
+        ax.plot(x, y, marker="o", markersize=markersize, color=colours[agent],
+                linestyle=line_style(agent), label=agent if with_labels else None)
+        failed = [(xi, yi) for xi, yi, r in zip(x, y, agent_rows) if r["success"] != "1"]
+        if failed:
+            ax.scatter(*zip(*failed), marker="x", s=60, color=colours[agent],
+                       label=f"{agent}: failed (step limit)" if with_labels else None)
+
+
+def plot_sweep_models(rows, seeds, sweep_csv, out_dir):
+    """A sweep over several models (scene seeds): one small panel per model, titled from the
+    models CSV written beside the sweep (<sweep>_models.csv) when there is one, and a last panel
+    with each agent's mean over the models. Log steps: failures sit at the limit, far above."""
+    scene_set = rows[0]["scene_set"]
+    models_csv = os.path.splitext(sweep_csv)[0] + "_models.csv"
+    names = {}
+    if os.path.exists(models_csv):
+        names = {r["seed"]: f"{r['name']} ({r['split']})" for r in read_rows(models_csv)}
+    max_steps = max(int(r["max_steps"]) for r in rows)
+    highest = max(counted_steps(r) for r in rows)  # the limit only when some episode failed
+    panels = len(seeds) + 1
+    cols = 3 if panels + 1 <= 6 else 4  # a free cell for the legend where it fits
+    grid_rows = math.ceil(panels / cols)
+    fig, axes = plt.subplots(grid_rows, cols, figsize=(4.2 * cols, 3.2 * grid_rows),
+                             sharex=True, sharey=True, squeeze=False)
+    flat = list(axes.flat)
+    colours = agent_colours(rows)
+    for k, (ax, seed) in enumerate(zip(flat, seeds)):
+        plot_sweep_lines(ax, by_agent([r for r in rows if r["scene_seed"] == seed]), colours,
+                         with_labels=False, markersize=3)
+        ax.set_title(f"model {k + 1}: {names.get(seed, 'seed ' + seed)}", fontsize=9)
+    # The mean over the models of each agent's counted steps, per start azimuth.
+    mean_ax = flat[len(seeds)]
+    for agent, agent_rows in by_agent(rows).items():
+        per_azimuth = OrderedDict()
+        for r in sorted(agent_rows, key=lambda r: float(r["start_azimuth_rad"])):
+            per_azimuth.setdefault(float(r["start_azimuth_rad"]), []).append(counted_steps(r))
+        x = [math.degrees(a) for a in per_azimuth]
+        y = [sum(v) / len(v) for v in per_azimuth.values()]
+        mean_ax.plot(x, y, marker="o", markersize=3, linewidth=2, color=colours[agent],
+                     linestyle=line_style(agent))
+    mean_ax.set_title(f"mean over the {len(seeds)} models", fontsize=9)
+    for ax in flat[:panels]:
+        ax.set_yscale("log")
+        ax.set_ylim(0.8, highest * 1.6)
+        ax.grid(alpha=0.3, which="both")
+    for ax in axes[-1]:
+        ax.set_xlabel("start azimuth [deg]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("steps (log)")
+    for ax in flat[panels:]:
+        ax.axis("off")
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=c, marker="o", markersize=3, linestyle=line_style(a), label=a)
+               for a, c in colours.items()]
+    handles.append(Line2D([], [], color="black", marker="x", linestyle="none", markersize=8,
+                          label="failed (step limit)"))
+    legend_ax = flat[panels] if panels < len(flat) else flat[len(seeds)]
+    legend_ax.legend(handles=handles, fontsize=8, loc="center")
+    fig.suptitle(f"Start-azimuth sweep: {scene_set.replace('sweep_', '')} "
+                 f"(at most {max_steps} steps; x = failed)", fontsize=10)
     fig.tight_layout()
     path = os.path.join(out_dir, f"{scene_set}.png")
     fig.savefig(path, dpi=120)
