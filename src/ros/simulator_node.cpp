@@ -53,17 +53,9 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
   static_transform_broadcaster_.sendTransform(
       bodyToOpticalTransform(ros::Time::now(), options_.camera_frame, options_.optical_frame));
 
-  if (options_.start_seed >= 0) {
-    Reset::Request request;
-    Reset::Response response;
-    request.seed = static_cast<std::uint64_t>(options_.start_seed);
+  resetAtStartUp(options_.start_seed, [this](Reset::Request& request, Reset::Response& response) {
     reset(request, response);
-    if (response.status.code != Status::OK) {
-      throw ParameterError("the start-up reset with ~start_seed " +
-                           std::to_string(options_.start_seed) +
-                           " failed: " + response.status.message);
-    }
-  }
+  });
 
   reset_service_ = node_.advertiseService(names::kResetService, &SimulatorNode::reset, this);
   step_service_ = node_.advertiseService(names::kStepService, &SimulatorNode::step, this);

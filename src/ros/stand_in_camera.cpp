@@ -37,17 +37,10 @@ StandInCamera::StandInCamera(const SimulatorOptions& options, ros::NodeHandle no
   static_transform_broadcaster_.sendTransform(
       bodyToOpticalTransform(ros::Time::now(), options_.camera_frame, options_.optical_frame));
 
-  if (options_.start_seed >= 0) {
-    Reset::Request request;
-    Reset::Response response;
-    request.seed = static_cast<std::uint64_t>(options_.start_seed);
+  resetAtStartUp(options_.start_seed, [this](Reset::Request& request, Reset::Response& response) {
     arrangeScene(request, response);
-    if (response.status.code != Status::OK) {
-      throw ParameterError("the start-up scene of ~start_seed " +
-                           std::to_string(options_.start_seed) +
-                           " failed: " + response.status.message);
-    }
-  }
+  });
+
   arrange_service_ =
       node_.advertiseService(names::kArrangeSceneService, &StandInCamera::arrangeScene, this);
   goal_subscriber_ = node_.subscribe(names::kCameraGoalTopic, 10, &StandInCamera::onGoal, this);

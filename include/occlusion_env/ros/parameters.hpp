@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/Reset.h"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
 
@@ -63,6 +64,21 @@ struct SimulatorOptions {
   std::string depth_encoding = "32FC1";  // camera mode: 32FC1 [m] | 16UC1 [mm], 0 = no reading
   bool cameraMode() const { return mode == "camera"; }
 };
+
+/// With `start_seed` >= 0, calls the node's reset handler (`reset` or `arrangeScene`) with that
+/// seed, as at start-up; throws ParameterError naming ~start_seed when it is refused.
+template <typename ResetHandler>
+void resetAtStartUp(std::int64_t start_seed, ResetHandler&& reset) {
+  if (start_seed < 0) return;
+  Reset::Request request;
+  Reset::Response response;
+  request.seed = static_cast<std::uint64_t>(start_seed);
+  reset(request, response);
+  if (response.status.code != Status::OK) {
+    throw ParameterError("the start-up reset with ~start_seed " + std::to_string(start_seed) +
+                         " failed: " + response.status.message);
+  }
+}
 
 /// Reads every option from `private_node` (the node's `~` namespace); absent parameters keep their
 /// defaults. Throws ParameterError naming the first parameter of the wrong type or value.
