@@ -131,6 +131,16 @@ geometry_msgs::TransformStamped bodyToOpticalTransform(const ros::Time& stamp,
   return toTransform(body_from_optical, stamp, camera_frame, optical_frame);
 }
 
+ResetOptions toResetOptions(const Reset::Request& request) {
+  ResetOptions overrides;
+  if (!request.preset.empty()) overrides.preset = request.preset;
+  overrides.object_ids = request.object_ids;
+  overrides.categories = request.categories;
+  if (request.set_start_azimuth) overrides.start_azimuth_rad = request.start_azimuth;
+  if (request.set_start_elevation) overrides.start_elevation_rad = request.start_elevation;
+  return overrides;
+}
+
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats) {
   OcclusionFigures figures;
   figures.total_pixels = stats.total_pixels;

@@ -114,13 +114,7 @@ const std_msgs::Header& SimulatorNode::stampNewView() {
 
 bool SimulatorNode::reset(Reset::Request& request, Reset::Response& response) {
   response.status = runWithStatus([&] {
-    ResetOptions overrides;
-    if (!request.preset.empty()) overrides.preset = request.preset;
-    overrides.object_ids = request.object_ids;
-    overrides.categories = request.categories;
-    if (request.set_start_azimuth) overrides.start_azimuth_rad = request.start_azimuth;
-    if (request.set_start_elevation) overrides.start_elevation_rad = request.start_elevation;
-    environment_.reset(request.seed, overrides);
+    environment_.reset(request.seed, toResetOptions(request));
     fillObservation(environment_, stampNewView(), options_.world_frame, response.observation);
     publishView(/*scene_changed=*/true);
   });

@@ -50,13 +50,7 @@ StandInCamera::StandInCamera(const SimulatorOptions& options, ros::NodeHandle no
 
 bool StandInCamera::arrangeScene(Reset::Request& request, Reset::Response& response) {
   response.status = runWithStatus([&] {
-    ResetOptions overrides;
-    if (!request.preset.empty()) overrides.preset = request.preset;
-    overrides.object_ids = request.object_ids;
-    overrides.categories = request.categories;
-    if (request.set_start_azimuth) overrides.start_azimuth_rad = request.start_azimuth;
-    if (request.set_start_elevation) overrides.start_elevation_rad = request.start_elevation;
-    environment_.reset(request.seed, overrides);
+    environment_.reset(request.seed, toResetOptions(request));
     has_scene_ = true;
     scene_seed_ = request.seed;
     view_index_ = 0;

@@ -15,6 +15,7 @@
 #include "occlusion_env/CameraObservation.h"
 #include "occlusion_env/EpisodeReport.h"
 #include "occlusion_env/OcclusionFigures.h"
+#include "occlusion_env/Reset.h"
 #include "occlusion_env/agents/episode.hpp"
 #include "occlusion_env/env/environment.hpp"
 
@@ -50,6 +51,9 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& parent_from
 geometry_msgs::TransformStamped bodyToOpticalTransform(const ros::Time& stamp,
                                                        const std::string& camera_frame,
                                                        const std::string& optical_frame);
+
+/// The per-reset overrides a Reset request asks for (empty or false fields: none).
+ResetOptions toResetOptions(const Reset::Request& request);
 
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats);
 
