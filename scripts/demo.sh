@@ -5,7 +5,9 @@
 #     seeds: the agent resets each scene through /occlusion/reset, steps along the negative
 #     occlusion gradient (/occlusion/get_occlusion_gradient) through /occlusion/step until no
 #     object hides another, and prints each episode; then the same with the learned
-#     predicted-escape agent, which sees only the RGB-D image. roslaunch ends with the agent.
+#     predicted-escape agent, which sees only the RGB-D image; then that agent once more through
+#     the camera bridge, in front of the simulator standing in for a real camera and robot
+#     (README, "Using a real camera"). roslaunch ends with the agent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH
@@ -26,12 +28,16 @@ out_abs=$(cd "$out" && pwd)
 export ROS_LOG_DIR=${ROS_LOG_DIR:-$out_abs/ros_log}
 # The simulator's gradient agent, then the learned agent that sees only the RGB-D image (the
 # shipped model, models/multitask_unet64.pt), on the same scenes.
-for agent in gradient predicted_escape; do
-  echo "== the $agent agent on the same scenes (roslaunch occlusion_env demo.launch agent:=$agent) =="
-  log=$out/demo_${agent}_launch.log
-  csv=$out_abs/${agent}_episodes.csv
+for run in gradient predicted_escape predicted_escape:camera_bridge; do
+  agent=${run%%:*}
+  bridge=false
+  [[ "$run" == *:camera_bridge ]] && bridge=true
+  name=${run/:/_}
+  echo "== the $agent agent on the same scenes$([[ $bridge == true ]] && echo " through the camera bridge") (roslaunch occlusion_env demo.launch agent:=$agent camera_bridge:=$bridge) =="
+  log=$out/demo_${name}_launch.log
+  csv=$out_abs/${name}_episodes.csv
   roslaunch -p "${DEMO_ROS_PORT:-11411}" --screen occlusion_env demo.launch agent:="$agent" \
-    episodes:=3 seed:=1 csv:="$csv" > "$log" 2>&1 || true
+    camera_bridge:="$bridge" episodes:=3 seed:=1 csv:="$csv" > "$log" 2>&1 || true
   # The agent's report; the whole launch output stays in $log.
   if ! grep -q "$agent agent done" "$log"; then
     echo "demo: the $agent agent did not finish; see $log" >&2
@@ -39,6 +45,10 @@ for agent in gradient predicted_escape; do
     exit 1
   fi
   grep -E "episode [0-9]+/[0-9]+ seed|agent done" "$log" | sed -E 's/^.*\]: //; s/\x1b\[[0-9;]*m//g'
+  if [[ $bridge == true ]]; then
+    echo "(Through the bridge, 'unoccluded' and the occlusion are the network's estimate, as a real"
+    echo " camera allows; test/ros/camera_bridge.test checks them against the stand-in's truth.)"
+  fi
   echo "Episodes (steps, success, final occlusion, camera path): $csv"
   echo "Full launch output: $log"
 done
