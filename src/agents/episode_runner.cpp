@@ -48,6 +48,7 @@ class StepPacer {
 void observe(const StepResult& result, const EpisodeRunOptions& options, EpisodeRecord& record) {
   record.path.push_back(result.info.pose);
   record.final_occlusion_px = result.info.occlusion.total_pixels;
+  record.occlusion_source = result.info.occlusion_source;
   if (options.on_result) options.on_result(result);
 }
 

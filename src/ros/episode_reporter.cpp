@@ -35,10 +35,20 @@ void EpisodeReporter::report(const EpisodeRecord& record, int index, int total) 
   std::ostringstream line;
   line << "episode " << index + 1 << "/" << total << " seed " << record.scene_seed << ": ";
   if (record.completed()) {
-    line << (record.success() ? "unoccluded after " : "still occluded after ") << record.steps
-         << (record.steps == 1 ? " step" : " steps") << ", final occlusion "
-         << record.final_occlusion_px << " px (" << std::fixed << std::setprecision(2)
-         << record.wall_time_s << " s)";
+    // Behind a real camera the end and the occlusion are an estimate, or unknown: say so.
+    const bool estimated = record.occlusion_source == OcclusionSource::kEstimated;
+    if (record.occlusion_source == OcclusionSource::kUnavailable) {
+      line << (record.success() ? "ended after " : "still unknown after ");
+    } else {
+      line << (estimated ? "estimated " : "")
+           << (record.success() ? "unoccluded after " : "still occluded after ");
+    }
+    line << record.steps << (record.steps == 1 ? " step" : " steps");
+    if (record.occlusion_source != OcclusionSource::kUnavailable) {
+      line << ", " << (estimated ? "estimated " : "") << "final occlusion "
+           << record.final_occlusion_px << " px";
+    }
+    line << " (" << std::fixed << std::setprecision(2) << record.wall_time_s << " s)";
     ROS_INFO_STREAM(line.str());
   } else {
     line << "CUT SHORT after " << record.steps << " steps (" << toString(record.end)

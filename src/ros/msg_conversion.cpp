@@ -218,6 +218,10 @@ void viewObservation(const CameraObservation& message, Observation& observation,
   info.occlusion.total_pixels = message.occlusion.total_pixels;
   info.occlusion.occluded_area_pixels = message.occlusion.occluded_area_pixels;
   info.occlusion.union_pixels = message.occlusion.union_pixels;
+  info.occlusion_source =
+      message.occlusion_source == CameraObservation::ESTIMATED     ? OcclusionSource::kEstimated
+      : message.occlusion_source == CameraObservation::UNAVAILABLE ? OcclusionSource::kUnavailable
+                                                                   : OcclusionSource::kGroundTruth;
   info.occlusion.pairs.resize(message.occlusion.pairs.size());  // throws beyond kMaxObjectPairs
   for (std::size_t i = 0; i < message.occlusion.pairs.size(); ++i) {
     info.occlusion.pairs[i].first = message.occlusion.pairs[i].first;

@@ -88,6 +88,13 @@ TEST(ObservationViewTest, MasksACameraCannotGiveStayEmpty) {
   EXPECT_TRUE(observation.instance.empty());
   EXPECT_TRUE(observation.occlusion_mask.empty());
   EXPECT_EQ(info.occlusion.total_pixels, -1);
+  EXPECT_EQ(info.occlusion_source, OcclusionSource::kUnavailable);
+  message.occlusion_source = CameraObservation::ESTIMATED;
+  viewObservation(message, observation, info);
+  EXPECT_EQ(info.occlusion_source, OcclusionSource::kEstimated);
+  message.occlusion_source = CameraObservation::GROUND_TRUTH;
+  viewObservation(message, observation, info);
+  EXPECT_EQ(info.occlusion_source, OcclusionSource::kGroundTruth);
   // A mask with pixels must still have its encoding.
   fillImage(cv::Mat(4, 4, CV_32FC1), message.header, message.occlusion_mask);
   EXPECT_THROW(viewObservation(message, observation, info), std::invalid_argument);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/occlusion/occlusion.hpp"
 
 namespace occlusion_env {
 
@@ -38,9 +39,11 @@ struct EpisodeRecord {
   int steps = 0;                   // steps taken
   EpisodeEnd end = EpisodeEnd::kStepLimit;
   std::int64_t final_occlusion_px = -1;  // L (Eq. 9) of the last view [px]; -1: never observed
-  double wall_time_s = 0.0;              // reset, steps and the agent's own work
-  std::string message;                   // why it was cut short; empty otherwise
-  std::vector<SphericalPose> path;       // the start pose, then one per step
+  // Of `end` and final_occlusion_px: an estimate behind a real camera (not in the CSV).
+  OcclusionSource occlusion_source = OcclusionSource::kGroundTruth;
+  double wall_time_s = 0.0;         // reset, steps and the agent's own work
+  std::string message;              // why it was cut short; empty otherwise
+  std::vector<SphericalPose> path;  // the start pose, then one per step
 
   bool success() const { return end == EpisodeEnd::kSuccess; }
   /// Ran to an outcome of the agent (success or a step limit), not cut short.

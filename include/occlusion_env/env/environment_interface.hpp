@@ -53,6 +53,7 @@ struct Observation {
 
 struct StepInfo {
   OcclusionStats occlusion;
+  OcclusionSource occlusion_source = OcclusionSource::kGroundTruth;
   SphericalPose pose;
   Eigen::Isometry3d world_from_optical = Eigen::Isometry3d::Identity();
   int step_index = 0;  // 0 after reset, t after the t-th step

@@ -43,6 +43,10 @@ class PairOcclusionList {
   std::size_t size_ = 0;
 };
 
+/// Where a view's occlusion figures come from: the simulator counts them; behind the camera
+/// bridge a network estimates them, or nothing does.
+enum class OcclusionSource { kGroundTruth, kEstimated, kUnavailable };
+
 struct OcclusionStats {
   /// L = sum over object pairs of their overlap [px]; a pixel covered by k objects counts
   /// k(k-1)/2 times, as in Eq. 9.
