@@ -1,5 +1,6 @@
 #include "occlusion_env/ros/episode_reporter.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -62,10 +63,14 @@ void EpisodeReporter::finish(const std::string& agent) {
   if (stats.completed == 0) {
     ROS_WARN_STREAM(agent << " agent: no episode completed");
   } else {
+    const bool estimated =
+        std::any_of(records_.begin(), records_.end(), [](const EpisodeRecord& record) {
+          return record.occlusion_source != OcclusionSource::kGroundTruth;
+        });
     ROS_INFO_STREAM(agent << " agent done: " << stats.successes << "/" << stats.completed
-                          << " completed episodes unoccluded, steps " << std::fixed
-                          << std::setprecision(1) << stats.mean_steps << " +/- "
-                          << (stats.completed > 1 ? stats.sd_steps : 0.0)
+                          << " completed episodes unoccluded" << (estimated ? " (estimated)" : "")
+                          << ", steps " << std::fixed << std::setprecision(1) << stats.mean_steps
+                          << " +/- " << (stats.completed > 1 ? stats.sd_steps : 0.0)
                           << " (failures counted as " << stats.max_steps << "); "
                           << stats.episodes - stats.completed << " cut short");
   }
