@@ -10,7 +10,7 @@ packages=(
   # ROS 1 from Debian (no separate prefix) and the Python modules the shell tools need
   ros-base-dev catkin python3-catkin-pkg libroscpp-dev libtf2-ros-dev libtf2-eigen-dev
   libimage-transport-dev libcv-bridge-dev libvisualization-msgs-dev libsensor-msgs-dev
-  libmessage-filters-dev libtf2-geometry-msgs-dev
+  libmessage-filters-dev
   libgeometry-msgs-dev libstd-srvs-dev python3-rostest rosbash python3-roslaunch
   python3-rosservice python3-rostopic python3-rosnode python3-sensor-msgs python3-geometry-msgs
   python3-tf2-msgs python3-visualization-msgs python3-std-srvs python3-tf2-ros tf-tools
