@@ -38,16 +38,6 @@ std::string milliseconds(double seconds) {
   return text.str();
 }
 
-// The pixels of `image` as a cv::Mat header (no copy) of `type`.
-cv::Mat matOf(const sensor_msgs::Image& image, int type) {
-  if (image.step < image.width * CV_ELEM_SIZE(type) ||
-      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
-    throw InvalidArgumentError("image data smaller than its width, height and step say");
-  }
-  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
-                 const_cast<std::uint8_t*>(image.data.data()), image.step);
-}
-
 // The central square of a width x height image.
 cv::Rect centralSquare(int width, int height) {
   const int side = std::min(width, height);
@@ -227,10 +217,12 @@ std::string CameraBridge::opticalFrame() {
   return latest_frame_.rgb->header.frame_id;
 }
 
-Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* transform_stamp) {
+Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* transform_stamp,
+                                           double wait_s) {
   geometry_msgs::TransformStamped transform;
   try {
-    transform = tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp);
+    transform =
+        tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp, ros::Duration(wait_s));
   } catch (const tf2::TransformException& error) {
     throw EnvironmentUnavailableError("no transform from " + options_.sphere_frame +
                                       " to the camera's optical frame: " + error.what());
@@ -241,9 +233,8 @@ Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* tr
 
 Eigen::Isometry3d CameraBridge::poseAt(const ros::Time& stamp) {
   try {
-    return tf2::transformToEigen(tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp,
-                                                     ros::Duration(kTfWait_s)));
-  } catch (const tf2::TransformException&) {
+    return cameraPose(stamp, nullptr, kTfWait_s);
+  } catch (const EnvironmentUnavailableError&) {
     return cameraPose(ros::Time(0));  // tf has not caught up with the frame: the latest
   }
 }
@@ -311,17 +302,17 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
   }
   const cv::Rect region = options_.square_crop ? centralSquare(depth_m_.cols, depth_m_.rows)
                                                : cv::Rect(0, 0, depth_m_.cols, depth_m_.rows);
-  const cv::Mat rgb_in = matOf(rgb_message, CV_8UC3)(region);
+  // rgb8 is used where it lies (the response's copy is the only one); bgr8 is converted once.
+  cv::Mat rgb = imageView(rgb_message, rgb_message.encoding, CV_8UC3)(region);
   if (rgb_message.encoding == enc::BGR8) {
-    cv::cvtColor(rgb_in, rgb_, cv::COLOR_BGR2RGB);
-  } else {
-    rgb_in.copyTo(rgb_);
+    cv::cvtColor(rgb, bgr_to_rgb_, cv::COLOR_BGR2RGB);
+    rgb = bgr_to_rgb_;
   }
   const cv::Mat depth = depth_m_(region);
 
   std_msgs::Header header = rgb_message.header;
   observation.header = header;
-  fillImage(rgb_, header, observation.rgb);
+  fillImage(rgb, header, observation.rgb);
   fillImage(depth, header, observation.depth);
   observation.camera_info = *frame.info;
   observation.camera_info.header = header;
@@ -357,7 +348,7 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
     observation.occlusion_mask = sensor_msgs::Image();
     return -1;
   }
-  const std::int64_t estimate = estimator_->estimate(rgb_, depth, mask_).occluded_pixels;
+  const std::int64_t estimate = estimator_->estimate(rgb, depth, mask_).occluded_pixels;
   observation.occlusion_source = CameraObservation::ESTIMATED;
   // The network predicts where silhouettes overlap, not how many overlap there: the area stands
   // for L as well.
@@ -370,6 +361,15 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
 
 bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
   response.status = runWithStatus([&] {
+    // A request the bridge would refuse arranges no scene.
+    if ((request.set_start_azimuth && !std::isfinite(request.start_azimuth)) ||
+        (request.set_start_elevation && !std::isfinite(request.start_elevation))) {
+      throw InvalidArgumentError("start azimuth and elevation must be finite");
+    }
+    if (request.set_start_elevation &&
+        !(std::abs(request.start_elevation) <= options_.elevation_limit_rad)) {
+      throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
+    }
     ros::Time start = ros::Time::now();
     if (scene_client_) {
       // The scene's node may still be starting (loading its objects).
@@ -387,14 +387,7 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
       throwForStatus(scene.response.status, "the scene service refused");
       start = ros::Time::now();  // frames from before the scene was arranged do not count
     }
-    if (request.set_start_elevation &&
-        !(std::abs(request.start_elevation) <= options_.elevation_limit_rad)) {
-      throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
-    }
     if (request.set_start_azimuth || request.set_start_elevation) {
-      if (!std::isfinite(request.start_azimuth) || !std::isfinite(request.start_elevation)) {
-        throw InvalidArgumentError("start azimuth and elevation must be finite");
-      }
       // Where the camera is now (after the scene service, which may have moved it): at a frame
       // from after the request. The angle not asked for stays as it is.
       const Frame current = waitForFrame(start);

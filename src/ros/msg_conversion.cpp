@@ -47,49 +47,41 @@ void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::
   }
 }
 
-void toMillimetreDepth(const cv::Mat& depth_m, cv::Mat& millimetres) {
-  if (depth_m.type() != CV_32FC1) throw std::invalid_argument("toMillimetreDepth: not CV_32FC1");
-  millimetres.create(depth_m.size(), CV_16UC1);
-  for (int row = 0; row < depth_m.rows; ++row) {
-    const float* metres = depth_m.ptr<float>(row);
-    std::uint16_t* out = millimetres.ptr<std::uint16_t>(row);
-    for (int col = 0; col < depth_m.cols; ++col) {
-      const float mm = metres[col] * 1000.0f + 0.5f;
-      // No reading (NaN, not positive, beyond the range of 16 bits) is 0, as drivers send it.
-      out[col] = mm >= 1.0f && mm < 65536.0f ? static_cast<std::uint16_t>(mm) : 0;
-    }
+cv::Mat imageView(const sensor_msgs::Image& image, const std::string& encoding, int type) {
+  if (image.width == 0 && image.height == 0) return cv::Mat();
+  if (image.encoding != encoding) {
+    throw std::invalid_argument("image encoding " + image.encoding + ", expected " + encoding);
   }
+  const std::size_t row_bytes = image.width * CV_ELEM_SIZE(type);
+  if (image.step < row_bytes ||
+      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
+    throw std::invalid_argument("image data smaller than its width, height and step say");
+  }
+  // The core reads observations only; the const_cast lets cv::Mat wrap the buffer without a copy.
+  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
+                 const_cast<std::uint8_t*>(image.data.data()), image.step);
 }
 
 void toMetricDepth(const sensor_msgs::Image& image, cv::Mat& depth_m) {
   namespace enc = sensor_msgs::image_encodings;
-  const bool millimetres = image.encoding == enc::TYPE_16UC1 || image.encoding == enc::MONO16;
-  if (!millimetres && image.encoding != enc::TYPE_32FC1) {
+  if (image.is_bigendian) throw std::invalid_argument("big-endian depth images are not supported");
+  if (image.encoding == enc::TYPE_16UC1 || image.encoding == enc::MONO16) {
+    fromMillimetreDepth(imageView(image, image.encoding, CV_16UC1), depth_m);
+    return;
+  }
+  if (image.encoding != enc::TYPE_32FC1) {
     throw std::invalid_argument("depth encoding " + image.encoding +
                                 ", expected 32FC1 [m] or 16UC1 [mm] (REP 118)");
   }
-  if (image.is_bigendian) throw std::invalid_argument("big-endian depth images are not supported");
-  const std::size_t pixel_bytes = millimetres ? 2 : 4;
-  if (image.step < image.width * pixel_bytes ||
-      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
-    throw std::invalid_argument("depth image data smaller than its width, height and step say");
-  }
-  depth_m.create(static_cast<int>(image.height), static_cast<int>(image.width), CV_32FC1);
+  const cv::Mat metres = imageView(image, enc::TYPE_32FC1, CV_32FC1);
+  depth_m.create(metres.size(), CV_32FC1);
   const float no_reading = std::numeric_limits<float>::quiet_NaN();
-  for (int row = 0; row < depth_m.rows; ++row) {
-    const std::uint8_t* in = image.data.data() + static_cast<std::size_t>(row) * image.step;
+  for (int row = 0; row < metres.rows; ++row) {
+    const float* in = metres.ptr<float>(row);
     float* out = depth_m.ptr<float>(row);
-    for (int col = 0; col < depth_m.cols; ++col) {
-      if (millimetres) {
-        std::uint16_t mm;
-        std::memcpy(&mm, in + col * 2, 2);
-        out[col] = mm == 0 ? no_reading : static_cast<float>(mm) * 0.001f;
-      } else {
-        float metres;
-        std::memcpy(&metres, in + col * 4, 4);
-        // REP 118: NaN no reading, +inf too far, -inf too close; 0 is what some drivers send.
-        out[col] = std::isfinite(metres) && metres > 0.0f ? metres : no_reading;
-      }
+    for (int col = 0; col < metres.cols; ++col) {
+      // REP 118: NaN no reading, +inf too far, -inf too close; 0 is what some drivers send.
+      out[col] = std::isfinite(in[col]) && in[col] > 0.0f ? in[col] : no_reading;
     }
   }
 }
@@ -184,33 +176,12 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
   }
 }
 
-namespace {
-
-// A cv::Mat header over `image`'s data, checked against the expected encoding. An image of no
-// pixels (a mask the camera bridge cannot give) is an empty Mat, whatever its encoding.
-cv::Mat matView(const sensor_msgs::Image& image, const std::string& encoding, int type) {
-  if (image.width == 0 && image.height == 0) return cv::Mat();
-  if (image.encoding != encoding) {
-    throw std::invalid_argument("image encoding " + image.encoding + ", expected " + encoding);
-  }
-  const std::size_t row_bytes = image.width * CV_ELEM_SIZE(type);
-  if (image.step < row_bytes ||
-      image.data.size() < static_cast<std::size_t>(image.step) * image.height) {
-    throw std::invalid_argument("image data smaller than its width, height and step say");
-  }
-  // The core reads observations only; the const_cast lets cv::Mat wrap the buffer without a copy.
-  return cv::Mat(static_cast<int>(image.height), static_cast<int>(image.width), type,
-                 const_cast<std::uint8_t*>(image.data.data()), image.step);
-}
-
-}  // namespace
-
 void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info) {
   namespace enc = sensor_msgs::image_encodings;
-  observation.rgb = matView(message.rgb, enc::RGB8, CV_8UC3);
-  observation.depth = matView(message.depth, enc::TYPE_32FC1, CV_32FC1);
-  observation.instance = matView(message.instance_mask, enc::MONO8, CV_8UC1);
-  observation.occlusion_mask = matView(message.occlusion_mask, enc::MONO8, CV_8UC1);
+  observation.rgb = imageView(message.rgb, enc::RGB8, CV_8UC3);
+  observation.depth = imageView(message.depth, enc::TYPE_32FC1, CV_32FC1);
+  observation.instance = imageView(message.instance_mask, enc::MONO8, CV_8UC1);
+  observation.occlusion_mask = imageView(message.occlusion_mask, enc::MONO8, CV_8UC1);
   observation.amodal_bits.release();
   info.pose.azimuth_rad = message.azimuth;
   info.pose.elevation_rad = message.elevation;

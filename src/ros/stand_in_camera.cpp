@@ -51,6 +51,7 @@ StandInCamera::StandInCamera(const SimulatorOptions& options, ros::NodeHandle no
 bool StandInCamera::arrangeScene(Reset::Request& request, Reset::Response& response) {
   response.status = runWithStatus([&] {
     environment_.reset(request.seed, toResetOptions(request));
+    onViewChanged();
     has_scene_ = true;
     scene_seed_ = request.seed;
     view_index_ = 0;
@@ -100,6 +101,7 @@ void StandInCamera::onFrame(const ros::TimerEvent& /*event*/) {
   if (goal_ && stamp >= goal_arrival_) {
     try {
       environment_.viewFrom(*goal_);
+      onViewChanged();
       ++view_index_;
       publishGroundTruth(stamp);
     } catch (const std::exception& error) {
@@ -129,12 +131,18 @@ void StandInCamera::onFrame(const ros::TimerEvent& /*event*/) {
   if (depth_publisher_.getNumSubscribers() > 0) {
     auto depth = boost::make_shared<sensor_msgs::Image>();
     if (options_.depth_encoding == "16UC1") {
-      toMillimetreDepth(observation.depth, depth_millimetres_);
       fillImage(depth_millimetres_, header, *depth);
     } else {
       fillImage(observation.depth, header, *depth);
     }
     depth_publisher_.publish(depth, camera_info);
+  }
+}
+
+void StandInCamera::onViewChanged() {
+  // Converted once per view, not once per frame: frames repeat the view until the camera moves.
+  if (options_.depth_encoding == "16UC1") {
+    toMillimetreDepth(environment_.observation().depth, depth_millimetres_);
   }
 }
 

@@ -6,7 +6,6 @@
 // stopped on a view that is truly clear, stopped too early, or run to the step limit.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
-#include <cmath>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -19,6 +18,7 @@
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
+#include "occlusion_env/render/depth_encoding.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {
@@ -124,21 +124,6 @@ Arguments parse(int argc, char** argv) {
   return args;
 }
 
-// `depth_m` as a 16-bit millimetre camera gives it (REP 118's 16UC1, read back as metres):
-// rounded to millimetres, no reading (NaN) below half a millimetre.
-const cv::Mat& millimetreDepth(const cv::Mat& depth_m, cv::Mat& out) {
-  out.create(depth_m.size(), CV_32FC1);
-  for (int row = 0; row < depth_m.rows; ++row) {
-    const float* in = depth_m.ptr<float>(row);
-    float* rounded = out.ptr<float>(row);
-    for (int col = 0; col < depth_m.cols; ++col) {
-      const float mm = std::round(in[col] * 1000.0f);
-      rounded[col] = mm >= 1.0f && mm < 65536.0f ? mm * 0.001f : NAN;
-    }
-  }
-  return out;
-}
-
 // One view of an episode: the truth and the estimate at each probability threshold.
 struct View {
   std::int64_t true_pixels = 0;
@@ -166,7 +151,7 @@ int run(const Arguments& args) {
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
   std::vector<learning::OcclusionEstimator> estimators;
   for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
-  cv::Mat mask, depth_mm;
+  cv::Mat mask, depth_16u, depth_mm;
 
   // views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
   std::vector<std::vector<View>> views(args.scenes);
@@ -179,7 +164,10 @@ int run(const Arguments& args) {
     for (int t = 0;; ++t) {
       Observation observation = environment.observation();  // headers, no copy
       if (args.millimetre_depth) {
-        observation.depth = millimetreDepth(observation.depth, depth_mm);
+        // As a 16UC1 camera gives it, read back as metres.
+        toMillimetreDepth(observation.depth, depth_16u);
+        fromMillimetreDepth(depth_16u, depth_mm);
+        observation.depth = depth_mm;
       }
       View view;
       view.true_pixels = info.occlusion.total_pixels;

@@ -110,8 +110,10 @@ class CameraBridge {
   /// The first frame stamped at or after `after`; EnvironmentUnavailableError after the timeout.
   Frame waitForFrame(const ros::Time& after);
   std::string opticalFrame();
-  /// The optical frame in the sphere's frame at `stamp` (zero: the latest).
-  Eigen::Isometry3d cameraPose(const ros::Time& stamp, ros::Time* transform_stamp = nullptr);
+  /// The optical frame in the sphere's frame at `stamp` (zero: the latest), waiting up to
+  /// `wait_s` for tf; EnvironmentUnavailableError when tf cannot say.
+  Eigen::Isometry3d cameraPose(const ros::Time& stamp, ros::Time* transform_stamp = nullptr,
+                               double wait_s = 0.0);
   /// The optical frame at a frame's `stamp`, waiting briefly for tf to catch up; the latest
   /// pose when it does not.
   Eigen::Isometry3d poseAt(const ros::Time& stamp);
@@ -154,7 +156,7 @@ class CameraBridge {
   double reward_normalizer_ = 1.0;  // Z: the first view's estimate [px], at least 1
 
   // Reused buffers of fillObservation().
-  cv::Mat rgb_, depth_m_, mask_;
+  cv::Mat bgr_to_rgb_, depth_m_, mask_;
 
   // Timing of the last steps, summarised in the log every kTimingWindow steps.
   std::vector<double> overhead_s_, robot_s_, frame_s_;

@@ -18,6 +18,7 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/agents/episode.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/render/depth_encoding.hpp"
 
 namespace occlusion_env {
 
@@ -25,9 +26,11 @@ namespace occlusion_env {
 /// (rgb8), CV_32FC1 (32FC1) or CV_8UC1 (mono8). Throws std::invalid_argument otherwise.
 void fillImage(const cv::Mat& mat, const std_msgs::Header& header, sensor_msgs::Image& image);
 
-/// Depth [m] (CV_32FC1, NaN where nothing is hit) as REP 118's 16UC1: millimetres, rounded, 0
-/// where there is no reading or the depth is beyond 65.535 m. `millimetres` is reused.
-void toMillimetreDepth(const cv::Mat& depth_m, cv::Mat& millimetres);
+/// A cv::Mat header over `image`'s pixels (no copy: valid while `image` is unchanged), checked
+/// against `encoding` and `type` (e.g. "rgb8", CV_8UC3) and against the data's size. An image of
+/// no pixels (a mask the camera bridge cannot give) is an empty Mat, whatever its encoding.
+/// Throws std::invalid_argument.
+cv::Mat imageView(const sensor_msgs::Image& image, const std::string& encoding, int type);
 
 /// A depth image of either REP 118 encoding as metres: 32FC1 [m] (NaN, inf and values <= 0 are
 /// no reading) or 16UC1 [mm] (0 is no reading). `depth_m` (CV_32FC1, reused) gets NaN wherever

@@ -39,6 +39,8 @@ class StandInCamera {
   /// One camera frame: arrives at a pending goal when its time has come, then publishes RGB,
   /// depth, their camera_info and the camera's tf, all with one stamp (now).
   void onFrame(const ros::TimerEvent& event);
+  /// Re-encodes what frames send of the new view (depth in millimetres, if so configured).
+  void onViewChanged();
   void publishGroundTruth(const ros::Time& stamp);
 
   SimulatorOptions options_;
@@ -59,7 +61,7 @@ class StandInCamera {
   ros::ServiceServer arrange_service_;
   tf2_ros::StaticTransformBroadcaster static_transform_broadcaster_;
   ros::Timer frame_timer_;
-  cv::Mat depth_millimetres_;  // CV_16UC1, for ~depth_encoding 16UC1
+  cv::Mat depth_millimetres_;  // CV_16UC1 of the current view, for ~depth_encoding 16UC1
 };
 
 }  // namespace occlusion_env
