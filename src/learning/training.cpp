@@ -4,7 +4,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 
 #include "occlusion_env/common/errors.hpp"
@@ -27,19 +29,26 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kSmoothL1Beta = 0.01;
 
-void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
-                 int size, Samples& samples) {
-  const int64_t n = static_cast<int64_t>(frames.size());
+Samples emptySamples(int64_t n, int size) {
+  Samples samples;
   samples.inputs = torch::empty({n, 4, size, size});
   samples.masks = torch::empty({n, 1, size, size});
   samples.gradient = torch::zeros({n, 2});
   samples.gradient_valid = torch::zeros({n});
   samples.escape = torch::zeros({n, 2});
   samples.escape_valid = torch::zeros({n});
+  return samples;
+}
+
+// Writes `frames` of `data` into `samples` from row `first` on.
+void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
+                 int size, Samples& samples, int64_t first) {
+  const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
   cv::Mat mask_small;
-  for (int64_t i = 0; i < n; ++i) {
-    const dataset::Frame& frame = *frames[i];
+  for (int64_t k = 0; k < n; ++k) {
+    const int64_t i = first + k;
+    const dataset::Frame& frame = *frames[k];
     writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), size, scratch,
                       samples.inputs[i].data_ptr<float>());
     const cv::Mat mask = data.readOcclusionMask(frame);
@@ -150,32 +159,60 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
 }  // namespace
 
 TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes) {
-  const dataset::BopDataset data(dir);
-  const nlohmann::json& options = data.manifest().at("options");
-  if (options.value("model_split", "") != "train") {
-    throw InvalidArgumentError("dataset " + dir +
-                               " was not made from the train split of the models: "
-                               "training on test-split models is refused");
-  }
-  for (const nlohmann::json& scene : data.manifest().at("scenes")) {
-    if (scene.at("seed").get<std::uint64_t>() >= kFirstTestSeed) {
-      throw InvalidArgumentError("dataset " + dir + " holds test seeds (>= " +
-                                 std::to_string(kFirstTestSeed) + "): refused for training");
+  return loadTrainingData(std::vector<std::string>{dir}, size, max_scenes);
+}
+
+TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, int max_scenes) {
+  if (dirs.empty()) throw InvalidArgumentError("no dataset given");
+  std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
+  std::vector<std::vector<const dataset::Frame*>> train(dirs.size()), validation(dirs.size());
+  std::set<std::uint64_t> seeds;
+  int64_t train_count = 0, validation_count = 0;
+  for (std::size_t d = 0; d < dirs.size(); ++d) {
+    const std::string& dir = dirs[d];
+    datasets.push_back(std::make_unique<dataset::BopDataset>(dir));
+    const dataset::BopDataset& data = *datasets.back();
+    const nlohmann::json& options = data.manifest().at("options");
+    if (options.value("model_split", "") != "train") {
+      throw InvalidArgumentError("dataset " + dir +
+                                 " was not made from the train split of the models: "
+                                 "training on test-split models is refused");
     }
+    for (const nlohmann::json& scene : data.manifest().at("scenes")) {
+      const auto seed = scene.at("seed").get<std::uint64_t>();
+      if (seed >= kFirstTestSeed) {
+        throw InvalidArgumentError("dataset " + dir + " holds test seeds (>= " +
+                                   std::to_string(kFirstTestSeed) + "): refused for training");
+      }
+      if (!seeds.insert(seed).second) {
+        throw InvalidArgumentError("scene seed " + std::to_string(seed) + " of " + dir +
+                                   " is in an earlier dataset too: use other --first-seed values");
+      }
+    }
+    for (const dataset::Frame& frame : data.frames()) {
+      if (max_scenes > 0 && frame.scene_index >= max_scenes) continue;
+      (frame.validation ? validation[d] : train[d]).push_back(&frame);
+    }
+    train_count += static_cast<int64_t>(train[d].size());
+    validation_count += static_cast<int64_t>(validation[d].size());
   }
-  std::vector<const dataset::Frame*> train, validation;
-  for (const dataset::Frame& frame : data.frames()) {
-    if (max_scenes > 0 && frame.scene_index >= max_scenes) continue;
-    (frame.validation ? validation : train).push_back(&frame);
-  }
-  if (train.empty() || validation.empty()) {
-    throw InvalidArgumentError("dataset " + dir + " has no training or no validation frames");
+  if (train_count == 0 || validation_count == 0) {
+    throw InvalidArgumentError("no training or no validation frames in the dataset(s) from " +
+                               dirs.front());
   }
   TrainingData out;
-  out.dataset_manifest = data.manifest();
-  out.dataset_dir = dir;
-  fillSamples(data, train, size, out.train);
-  fillSamples(data, validation, size, out.validation);
+  out.dataset_manifest = datasets.front()->manifest();
+  out.dataset_dir = dirs.front();
+  out.extra_dataset_dirs.assign(dirs.begin() + 1, dirs.end());
+  out.train = emptySamples(train_count, size);
+  out.validation = emptySamples(validation_count, size);
+  int64_t train_row = 0, validation_row = 0;
+  for (std::size_t d = 0; d < dirs.size(); ++d) {
+    fillSamples(*datasets[d], train[d], size, out.train, train_row);
+    fillSamples(*datasets[d], validation[d], size, out.validation, validation_row);
+    train_row += static_cast<int64_t>(train[d].size());
+    validation_row += static_cast<int64_t>(validation[d].size());
+  }
   return out;
 }
 
@@ -189,6 +226,7 @@ void TrainingOptions::validate() const {
     throw InvalidArgumentError("direction_loss must be mse or smooth_l1");
   }
   if (threads < 0) throw InvalidArgumentError("threads must be >= 0");
+  if (!(bce_weight >= 0.0)) throw InvalidArgumentError("bce_weight must be >= 0");
 }
 
 nlohmann::json TrainingOptions::toJson() const {
@@ -199,6 +237,7 @@ nlohmann::json TrainingOptions::toJson() const {
           {"weight_decay", weight_decay},
           {"dice_weight", dice_weight},
           {"direction_weight", direction_weight},
+          {"bce_weight", bce_weight},
           {"direction_loss", direction_loss},
           {"augment", augment},
           {"seed", seed}};
@@ -272,11 +311,12 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
   fs::create_directories(run_dir);
   const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
   const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
-  const nlohmann::json identity = {{"options", options.toJson()},
-                                   {"dataset", data.dataset_dir},
-                                   {"dataset_options", data.dataset_manifest.at("options")},
-                                   {"train_frames", data.train.size()},
-                                   {"validation_frames", data.validation.size()}};
+  nlohmann::json identity = {{"options", options.toJson()},
+                             {"dataset", data.dataset_dir},
+                             {"dataset_options", data.dataset_manifest.at("options")},
+                             {"train_frames", data.train.size()},
+                             {"validation_frames", data.validation.size()}};
+  if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
 
   torch::manual_seed(options.seed);
   MultiTaskUNet network(options.network);
@@ -327,6 +367,8 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
       const NetworkOutput out = network->forward(batch.inputs);
       const torch::Tensor loss =
           options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
+          options.bce_weight *
+              torch::binary_cross_entropy_with_logits(out.occlusion_logits, batch.masks) +
           options.direction_weight *
               (maskedMean(
                    directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
@@ -352,12 +394,15 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
 
     if (metrics.val_iou > best_iou) {
       best_iou = metrics.val_iou;
-      saveModel(network, (fs::path(run_dir) / "best.pt").string(),
-                {{"training", options.toJson()},
-                 {"dataset", data.dataset_dir},
-                 {"dataset_options", data.dataset_manifest.at("options")},
-                 {"epoch", epoch},
-                 {"validation", metrics.toJson()}});
+      nlohmann::json info = {{"training", options.toJson()},
+                             {"dataset", data.dataset_dir},
+                             {"dataset_options", data.dataset_manifest.at("options")},
+                             {"train_frames", data.train.size()},
+                             {"validation_frames", data.validation.size()},
+                             {"epoch", epoch},
+                             {"validation", metrics.toJson()}};
+      if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
+      saveModel(network, (fs::path(run_dir) / "best.pt").string(), info);
     }
     // Checkpoint: written next to the old one, then renamed over it.
     torch::serialize::OutputArchive archive, model_archive, optimizer_archive;

@@ -26,7 +26,10 @@ RUN_DIR (re-run the same command to resume), log.csv and curves.png; RUN_DIR/bes
 the model with the best validation IoU.
 
 Options:
-  --data DIR             the dataset (occlusion_dataset --out DIR)
+  --data DIR             the dataset (occlusion_dataset --out DIR); repeatable: every dataset's
+                         training and validation scenes are used (its own split), so one made
+                         with --validation 0 (e.g. --no-oracle, many scenes) only adds training
+                         frames; the manifests record the first as "dataset"
   --out RUN_DIR          where checkpoints, logs and the best model go
   --variant V            unet | r_unet | sr_unet | sar_unet (default unet)
   --size N               network input size [px], multiple of 32 (default 64)
@@ -38,6 +41,8 @@ Options:
   --direction-loss L     mse | smooth_l1 (beta 0.01; the paper's -L1 variant) (default mse)
   --dice-weight X        beta_1 (default 1)
   --direction-weight X   beta_2 (default 1)
+  --bce-weight X         adds X times a pixel-wise binary cross-entropy on the occlusion map to
+                         the paper's loss (default 0: the paper's loss)
   --no-augment           no colour jitter or flips
   --max-scenes N         use only the first N scenes of the dataset
   --seed S               (default 1)
@@ -85,7 +90,8 @@ int benchInference(const std::string& model_path) {
 int main(int argc, char** argv) {
   using namespace occlusion_env;
   learning::TrainingOptions options;
-  std::string data_dir, run_dir;
+  std::vector<std::string> data_dirs;
+  std::string run_dir;
   int max_scenes = 0;
   std::string bench_model;
   try {
@@ -96,7 +102,7 @@ int main(int argc, char** argv) {
         std::cout << kUsage;
         return 0;
       } else if (flag == "--data") {
-        data_dir = reader.text();
+        data_dirs.push_back(reader.text());
       } else if (flag == "--out") {
         run_dir = reader.text();
       } else if (flag == "--variant") {
@@ -119,6 +125,8 @@ int main(int argc, char** argv) {
         options.dice_weight = reader.number(0.0, 1000.0);
       } else if (flag == "--direction-weight") {
         options.direction_weight = reader.number(0.0, 1000.0);
+      } else if (flag == "--bce-weight") {
+        options.bce_weight = reader.number(0.0, 1000.0);
       } else if (flag == "--no-augment") {
         options.augment = false;
       } else if (flag == "--max-scenes") {
@@ -133,7 +141,7 @@ int main(int argc, char** argv) {
         reader.unknown();
       }
     }
-    if (bench_model.empty() && (data_dir.empty() || run_dir.empty())) {
+    if (bench_model.empty() && (data_dirs.empty() || run_dir.empty())) {
       throw tools::ArgumentError("--data and --out are required");
     }
   } catch (const tools::ArgumentError& error) {
@@ -149,10 +157,12 @@ int main(int argc, char** argv) {
                 << "): convolutions are 5-8x slower. Install libopenblas0-openmp "
                    "(scripts/install_deps.sh does).\n";
     }
-    std::cerr << "occlusion_train: reading " << data_dir << " at " << options.network.input_size
-              << " px...\n";
+    std::cerr << "occlusion_train: reading " << data_dirs.front()
+              << (data_dirs.size() > 1 ? " and " + std::to_string(data_dirs.size() - 1) + " more"
+                                       : std::string())
+              << " at " << options.network.input_size << " px...\n";
     const learning::TrainingData data =
-        learning::loadTrainingData(data_dir, options.network.input_size, max_scenes);
+        learning::loadTrainingData(data_dirs, options.network.input_size, max_scenes);
     std::cerr << "occlusion_train: " << data.train.size() << " training and "
               << data.validation.size() << " validation frames; " << options.network.variant << ", "
               << options.epochs << " epochs, checkpoints in " << run_dir << "\n";

@@ -49,25 +49,38 @@ TEST(LearningTest, EveryVariantGivesTheShapesOfItsHeads) {
   EXPECT_THROW(bad.validate(), InvalidArgumentError);
 }
 
-TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
-  const fs::path data_dir = temporaryDir("occlusion_env_learning_data");
-  dataset::DatasetOptions data_options;
-  data_options.scenes = 4;
-  data_options.frames = 8;
-  data_options.size = 64;
-  data_options.validation_fraction = 0.25;
-  dataset::generateDataset(data_dir.string(), data_options);
-  const TrainingData data = loadTrainingData(data_dir.string(), 32);
-  EXPECT_EQ(data.train.size(), 24);
-  EXPECT_EQ(data.validation.size(), 8);
+// A tiny dataset of the embedded objects: `scenes` scenes from `first_seed` on, 64 px.
+dataset::DatasetOptions tinyDataset(int scenes, int frames, double validation_fraction,
+                                    std::uint64_t first_seed = 0) {
+  dataset::DatasetOptions options;
+  options.scenes = scenes;
+  options.frames = frames;
+  options.size = 64;
+  options.validation_fraction = validation_fraction;
+  options.first_seed = first_seed;
+  return options;
+}
 
+// Training options for seconds of training at 32 px, one thread, no augmentation.
+TrainingOptions tinyTraining(int epochs) {
   TrainingOptions options;
   options.network.input_size = 32;
-  options.epochs = 6;
+  options.epochs = epochs;
   options.batch_size = 8;
   options.learning_rate = 3e-3;
   options.augment = false;
   options.threads = 1;
+  return options;
+}
+
+TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_data");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 8, 0.25));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  EXPECT_EQ(data.train.size(), 24);
+  EXPECT_EQ(data.validation.size(), 8);
+
+  const TrainingOptions options = tinyTraining(6);
   const fs::path run_dir = temporaryDir("occlusion_env_learning_run");
   // Two runs of the same command in two folders: the same result.
   const std::vector<EpochMetrics> before = train(data, options, run_dir.string() + "_probe", {});
@@ -144,6 +157,43 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   expectRefused((run_dir / "mismatch.pt").string(), "does not match");
   fs::remove_all(run_dir);
   fs::remove_all(data_dir);
+}
+
+// A second dataset without oracle labels and without validation scenes adds training frames only;
+// a dataset repeating a scene seed is refused; the cross-entropy term trains too.
+TEST(LearningTest, SeveralDatasetsAddTrainingFramesOnly) {
+  const fs::path labelled = temporaryDir("occlusion_env_learning_labelled");
+  const fs::path extra = temporaryDir("occlusion_env_learning_extra");
+  dataset::generateDataset(labelled.string(), tinyDataset(4, 4, 0.25));
+  dataset::DatasetOptions unlabelled = tinyDataset(4, 4, 0.0, 4);
+  unlabelled.oracle_labels = false;
+  dataset::generateDataset(extra.string(), unlabelled);
+
+  const TrainingData one = loadTrainingData(labelled.string(), 32);
+  const TrainingData both = loadTrainingData({labelled.string(), extra.string()}, 32);
+  EXPECT_EQ(both.train.size(), one.train.size() + 16);
+  EXPECT_EQ(both.validation.size(), one.validation.size());
+  EXPECT_TRUE(torch::equal(both.validation.inputs, one.validation.inputs));
+  EXPECT_TRUE(torch::equal(both.train.inputs.slice(0, 0, one.train.size()), one.train.inputs));
+  EXPECT_EQ(both.train.escape_valid.slice(0, one.train.size()).sum().item<float>(), 0.0f)
+      << "no escape labels without the oracle";
+  EXPECT_EQ(both.extra_dataset_dirs, std::vector<std::string>{extra.string()});
+  EXPECT_THROW(loadTrainingData({labelled.string(), labelled.string()}, 32), InvalidArgumentError)
+      << "the same scene seeds twice";
+
+  TrainingOptions training = tinyTraining(4);
+  training.bce_weight = 1.0;
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_bce_run");
+  const auto history = train(both, training, run_dir.string(), {});
+  EXPECT_LT(history.back().train_loss, history.front().train_loss) << "the loss falls";
+  std::ifstream manifest_file(run_dir / "best.json");
+  const nlohmann::json manifest = nlohmann::json::parse(manifest_file);
+  EXPECT_EQ(manifest.at("training").at("bce_weight").get<double>(), 1.0);
+  EXPECT_EQ(manifest.at("extra_datasets").at(0).get<std::string>(), extra.string());
+  EXPECT_EQ(manifest.at("train_frames").get<int64_t>(), both.train.size());
+  fs::remove_all(run_dir);
+  fs::remove_all(labelled);
+  fs::remove_all(extra);
 }
 
 TEST(LearningTest, NetworkInputFollowsTheConvention) {

@@ -30,8 +30,9 @@ struct Samples {
 
 struct TrainingData {
   Samples train, validation;
-  nlohmann::json dataset_manifest;
-  std::string dataset_dir;
+  nlohmann::json dataset_manifest;              // the first dataset's
+  std::string dataset_dir;                      // the first dataset
+  std::vector<std::string> extra_dataset_dirs;  // further datasets, if any
 };
 
 /// Reads every complete scene of the dataset in `dir` at `size` px, split by the manifest's
@@ -39,14 +40,22 @@ struct TrainingData {
 /// test seeds or models outside the train split (InvalidArgumentError).
 TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes = 0);
 
+/// The same for several datasets (dirs[0] first), each split by its own manifest: e.g. a
+/// dataset with oracle labels and a larger one without them made with `--validation 0`, which
+/// adds training frames and leaves the validation frames as they were. Also refuses a scene seed
+/// that is in two of them. `max_scenes` applies to each.
+TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, int max_scenes = 0);
+
 struct TrainingOptions {
   NetworkConfig network;
   int epochs = 15;
   int batch_size = 32;
   double learning_rate = 1e-3;  // AdamW, cosine-annealed to 0 over all epochs (per batch)
   double weight_decay = 1e-5;
-  double dice_weight = 1.0;            // beta_1 (Eq. 12)
-  double direction_weight = 1.0;       // beta_2, for each of the two direction heads
+  double dice_weight = 1.0;       // beta_1 (Eq. 12)
+  double direction_weight = 1.0;  // beta_2, for each of the two direction heads
+  double bce_weight = 0.0;  // weight of a pixel-wise binary cross-entropy on the occlusion map,
+                            // added to the paper's loss (0: the paper's loss)
   std::string direction_loss = "mse";  // mse | smooth_l1 (beta 0.01: the paper's -L1 variant)
   bool augment = true;                 // colour jitter and horizontal flips
   std::uint64_t seed = 1;
