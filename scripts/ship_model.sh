@@ -34,6 +34,10 @@ run, model, out, name, command, validation = sys.argv[1:]
 manifest = json.load(open(os.path.join(run, model + ".json")))
 manifest["file"] = name + ".pt"
 manifest["command"] = command
+if "dataset" in manifest:
+    # The dataset the network was trained on, by the checksum of its manifest (dataset.json).
+    dataset_json = os.path.join(manifest["dataset"], "dataset.json")
+    manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
 if manifest.get("kind") == "ppo_policy":
     episodes = list(csv.DictReader(open(os.path.join(run, "episodes.csv"))))[-500:]
     manifest["training_end"] = {
@@ -80,7 +84,9 @@ for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     lines.append(f"| `{m['file']}` | {net['variant']}{'-L1' if loss == 'smooth_l1' else ''}, "
                  f"{net['input_size']} px, base {net['base_channels']} | {ds['source']} "
                  f"{','.join(ds['categories']) or 'any'}, seeds {ds['first_seed']}.., "
-                 f"{ds['frames']} frames/scene, {ds['size']} px | {m['epoch']} | "
+                 f"{ds['frames']} frames/scene, {ds['size']} px"
+                 f"{', dataset.json sha256 ' + m['dataset_manifest_sha256'][:12] + '...' if 'dataset_manifest_sha256' in m else ''}"
+                 f" | {m['epoch']} | "
                  f"{100 * v['val_iou']:.2f} % | {v['val_gradient_angle_deg']:.1f} / "
                  f"{v['val_escape_angle_deg']:.1f} deg | {os.path.getsize(pt) / 1e6:.1f} MB | "
                  f"`{digest}` |")

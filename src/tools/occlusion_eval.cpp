@@ -58,6 +58,8 @@ modes (one):
   --strip FILE         frames of one episode of each agent (default gradient, predicted_escape)
                        on a scene of the set, side by side (PNG): the first scene where the
                        first agent fails and the last succeeds, else the set's first scene
+  --networks           print the Table 3 layout (doc/training/*.json and models/*.json of the
+                       source tree, beside the paper's rows) and exit
   --all                the held-out scene sets (config/scenes/test_*.yaml) and both sweeps,
                        on the embedded scene and on Sweet Home 3D models, with RESULTS.md in
                        --out (and the --report document)
@@ -87,6 +89,7 @@ struct CommandLine {
   std::string summarize;
   std::string landscape;
   std::string strip;
+  bool networks = false;
   bool all = false;
   std::vector<std::string> agents;  // empty: the registry's competitors
   int max_steps = -1;               // -1: the mode's default
@@ -117,6 +120,8 @@ CommandLine parse(int argc, char** argv) {
       cl.landscape = args.text();
     } else if (arg == "--strip") {
       cl.strip = args.text();
+    } else if (arg == "--networks") {
+      cl.networks = true;
     } else if (arg == "--all") {
       cl.all = true;
     } else if (arg == "--agents") {
@@ -154,10 +159,11 @@ CommandLine parse(int argc, char** argv) {
     }
   }
   const int modes = !cl.scenes.empty() + !cl.sweep.empty() + !cl.summarize.empty() +
-                    !cl.landscape.empty() + !cl.strip.empty() + cl.all;
+                    !cl.landscape.empty() + !cl.strip.empty() + cl.networks + cl.all;
   if (modes != 1) {
     throw InvalidArgumentError(
-        "give exactly one of --scenes, --sweep, --summarize, --landscape, --strip, --all");
+        "give exactly one of --scenes, --sweep, --summarize, --landscape, --strip, --networks, "
+        "--all");
   }
   if (!cl.report.empty() && !cl.all) throw InvalidArgumentError("--report needs --all");
   if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
@@ -642,11 +648,11 @@ std::string runStrip(const CommandLine& cl, const std::string& scenes_path) {
 // The manifests of the shipped models (models/*.json) of `kind` ("multitask_unet" for those
 // written before kinds existed) that carry validation figures, in file-name order; unreadable
 // files are left out.
-std::vector<nlohmann::json> shippedManifests(const CommandLine& cl, const std::string& kind) {
+// The manifests (*.json) of kind `kind` in `folder`, in file-name order.
+std::vector<nlohmann::json> manifestsIn(const fs::path& folder, const std::string& kind) {
   std::vector<fs::path> paths;
-  const fs::path models = fs::path(cl.source_dir) / "models";
-  if (fs::is_directory(models)) {
-    for (const auto& entry : fs::directory_iterator(models)) {
+  if (fs::is_directory(folder)) {
+    for (const auto& entry : fs::directory_iterator(folder)) {
       if (entry.path().extension() == ".json") paths.push_back(entry.path());
     }
   }
@@ -657,12 +663,17 @@ std::vector<nlohmann::json> shippedManifests(const CommandLine& cl, const std::s
     try {
       nlohmann::json manifest = nlohmann::json::parse(in);
       if (manifest.value("kind", "multitask_unet") == kind && manifest.contains("validation")) {
+        manifest["manifest_file"] = path.filename().string();
         manifests.push_back(std::move(manifest));
       }
     } catch (const std::exception&) {
     }
   }
   return manifests;
+}
+
+std::vector<nlohmann::json> shippedManifests(const CommandLine& cl, const std::string& kind) {
+  return manifestsIn(fs::path(cl.source_dir) / "models", kind);
 }
 
 // The shipped PPO policies (models/*.json of kind ppo_policy): recipe, training length, the end
@@ -698,42 +709,98 @@ std::string policySection(const CommandLine& cl) {
   return md.str();
 }
 
-// Table 3 layout: the validation figures of every shipped model (models/*.json), beside the
-// paper's rows.
+// One row of the network table: a model's best-epoch validation figures (its manifest).
+void networkRow(std::ostringstream& md, const std::string& name, const nlohmann::json& manifest) {
+  const nlohmann::json& v = manifest["validation"];
+  const nlohmann::json& net = manifest["network"];
+  const nlohmann::json training = manifest.value("training", nlohmann::json::object());
+  const nlohmann::json run = manifest.value("run", nlohmann::json::object());
+  const std::string loss = training.value("direction_loss", "mse");
+  md << std::fixed << "| " << name << " | " << net.value("variant", "?")
+     << (loss == "smooth_l1" ? "-L1" : "") << " | " << net.value("input_size", 0) << " | "
+     << manifest.value("epoch", 0) << " / " << training.value("epochs", 0) << " | ";
+  if (run.contains("minutes")) {
+    md << std::setprecision(0) << run.value("minutes", 0.0) << " min | ";
+  } else {
+    md << "- | ";
+  }
+  md << std::setprecision(3) << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
+     << 100.0 * v.value("val_pixel_accuracy", 0.0) << " % | " << 100.0 * v.value("val_iou", 0.0)
+     << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << " | "
+     << std::setprecision(1) << v.value("val_gradient_angle_deg", 0.0) << " deg | "
+     << std::setprecision(3) << v.value("val_escape_mse", 0.0) << " | " << std::setprecision(1)
+     << v.value("val_escape_angle_deg", 0.0) << " deg |\n";
+}
+
+// Table 3 layout: the variants trained by scripts/train_table3.sh (doc/training/*.json) and
+// the shipped models (models/*.json), beside the paper's rows.
 std::string networkSection(const CommandLine& cl) {
   std::ostringstream md;
   md << "## The multi-task network (Table 3 layout)\n\n"
-     << "Validation figures of the shipped models (`models/`, trained by `occlusion_train`; "
-        "commands and checksums in `models/MANIFEST.md`) on the validation scenes of their "
-        "dataset, at the network's resolution. Dice = soft Dice loss (Eq. 10); IoU and pixel "
-        "accuracy of the occlusion map thresholded at 0.5; MSE = ||prediction - (sin, cos)||^2 "
-        "(Eq. 11); angle = mean angular error of the normalised prediction. The paper's rows: "
-        "256 px ShapeNet images and its own gradient labels.\n\n"
-     << "| Model | Variant | Size | Epoch | Dice | Pixel acc | IoU | Gradient MSE | Gradient "
-        "angle | Escape MSE | Escape angle "
-        "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+     << "Validation figures (the epoch with the best validation IoU) on the validation scenes "
+        "of the dataset (`data/train_sweethome3d`: 1000 Sweet Home 3D scenes of train-split "
+        "chairs and tables, 20 frames each; whole scenes held out for validation: 16,000 "
+        "training and 4,000 validation frames), at the network's resolution. The variants "
+        "were trained by `scripts/train_table3.sh` on the same data, at the same resolution, "
+        "for the same number of epochs, one thread each (their commands, curves and logs are "
+        "in `doc/training/`); the shipped models by the commands in `models/MANIFEST.md`. "
+        "Epoch = best / of. Dice = soft Dice loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + "
+        "1), mean over images (Eq. 10); IoU (of the occlusion class, over all validation "
+        "pixels) and pixel accuracy of the occlusion map thresholded at 0.5; MSE = "
+        "||prediction - (sin, cos)||^2 (Eq. 11); angle = mean angular error of the normalised "
+        "prediction (gradient: the descent direction of the simulator's gradient; escape: the "
+        "oracle's direction of escape).\n\n"
+        "The paper's rows: 256 px ShapeNet images (130,000 with its validation split), 50 epochs, its own "
+        "gradient labels. Its Dice column is not comparable: the authors' loss "
+        "(`loss.py`) is 1 - (sum(p t) + 1) / (sum(p^2) + sum(t^2) + 1), without the factor 2, "
+        "so a perfect map scores 0.5 there; its IoU is the same occlusion-class IoU, averaged "
+        "over batches of 128.\n\n"
+     << "| Model | Variant | Size | Epoch | Training | Dice | Pixel acc | IoU | Gradient MSE | "
+        "Gradient angle | Escape MSE | Escape angle "
+        "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  // The trained variants in the paper's order, each resolution together.
+  std::vector<nlohmann::json> runs =
+      manifestsIn(fs::path(cl.source_dir) / "doc" / "training", "multitask_unet");
+  const auto rank = [](const nlohmann::json& m) {
+    const std::string loss =
+        m.value("training", nlohmann::json::object()).value("direction_loss", "mse");
+    const std::vector<std::string> order = {"unet", "r_unet", "sr_unet", "sar_unet"};
+    const std::string variant = m.at("network").value("variant", "");
+    const auto at = std::find(order.begin(), order.end(), variant) - order.begin();
+    return std::make_pair(m.at("network").value("input_size", 0),
+                          2 * static_cast<int>(at) + (loss == "smooth_l1" ? 1 : 0));
+  };
+  std::stable_sort(runs.begin(), runs.end(), [&](const nlohmann::json& a, const nlohmann::json& b) {
+    return rank(a) < rank(b);
+  });
+  for (const nlohmann::json& manifest : runs) {
+    if (!manifest.contains("network")) continue;
+    const std::string file = manifest.value("manifest_file", "?");
+    networkRow(md,
+               "[" + fs::path(file).stem().string() + "](doc/training/" +
+                   fs::path(file).stem().string() + ".png)",
+               manifest);
+  }
   for (const nlohmann::json& manifest : shippedManifests(cl, "multitask_unet")) {
     if (!manifest.contains("network")) continue;
-    const nlohmann::json& v = manifest["validation"];
-    const nlohmann::json& net = manifest["network"];
-    const std::string loss =
-        manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
-    md << std::fixed << "| `" << fs::path(manifest.value("file", "?")).stem().string() << "` | "
-       << net.value("variant", "?") << (loss == "smooth_l1" ? "-L1" : "") << " | "
-       << net.value("input_size", 0) << " | " << manifest.value("epoch", 0) << " | "
-       << std::setprecision(3) << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
-       << 100.0 * v.value("val_pixel_accuracy", 0.0) << " % | " << 100.0 * v.value("val_iou", 0.0)
-       << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << " | "
-       << std::setprecision(1) << v.value("val_gradient_angle_deg", 0.0) << " deg | "
-       << std::setprecision(3) << v.value("val_escape_mse", 0.0) << " | " << std::setprecision(1)
-       << v.value("val_escape_angle_deg", 0.0) << " deg |\n";
+    networkRow(md, "shipped `" + fs::path(manifest.value("file", "?")).stem().string() + "`",
+               manifest);
   }
-  md << "| paper: Base UNet | unet | 256 | - | 0.607 | 99.65 % | 61.09 % | 0.038 | - | - | - |\n"
-     << "| paper: R-UNet | r_unet | 256 | - | 0.606 | 99.65 % | 61.47 % | 0.038 | - | - | - |\n"
-     << "| paper: SR-UNet | sr_unet | 256 | - | 0.610 | 99.64 % | 60.34 % | 0.038 | - | - | - |\n"
-     << "| paper: SAR-UNet | sar_unet | 256 | - | 0.609 | 99.66 % | 61.87 % | 0.038 | - | - | - |\n"
-     << "| paper: SAR-UNet-L1 | sar_unet-L1 | 256 | - | 0.604 | 99.67 % | 62.37 % | 0.005 | - | - "
-        "| - |\n\n";
+  md << "| paper: Base UNet | unet | 256 | - / 50 | - | (0.607) | 99.65 % | 61.09 % | 0.038 | - | "
+        "- "
+        "| - |\n"
+     << "| paper: R-UNet | r_unet | 256 | - / 50 | - | (0.606) | 99.65 % | 61.47 % | 0.038 | - | - "
+        "| "
+        "- |\n"
+     << "| paper: SR-UNet | sr_unet | 256 | - / 50 | - | (0.610) | 99.64 % | 60.34 % | 0.038 | - | "
+        "- "
+        "| - |\n"
+     << "| paper: SAR-UNet | sar_unet | 256 | - / 50 | - | (0.609) | 99.66 % | 61.87 % | 0.038 | - "
+        "| "
+        "- | - |\n"
+     << "| paper: SAR-UNet-L1 | sar_unet-L1 | 256 | - / 50 | - | (0.604) | 99.67 % | 62.37 % | "
+        "0.005 "
+        "| - | - | - |\n\n";
   return md.str();
 }
 
@@ -784,6 +851,10 @@ void runAll(const CommandLine& cl) {
 int main(int argc, char** argv) {
   try {
     const CommandLine cl = parse(argc, argv);
+    if (cl.networks) {
+      std::cout << networkSection(cl);
+      return 0;
+    }
     fs::create_directories(cl.out);
     if (!cl.scenes.empty()) {
       runSceneSet(cl, cl.scenes);

@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Trains the five network variants of the paper's Table 3 (UNet, R-UNet, SR-UNet, SAR-UNet,
+# SAR-UNet-L1) on the same data, at the same resolution, for the same number of epochs, one
+# libtorch thread each, and copies each run's best-model manifest and log into doc/training/
+# (<variant>_<size>px.json / .csv / .png), where `occlusion_eval --all` reads them for
+# EVALUATION.md's Table 3. Runs resume: re-run the same command after an interruption.
+#
+# Usage: scripts/train_table3.sh [DATA_DIR] [RUNS_DIR]
+#   DATA_DIR  default data/train_sweethome3d (made by the occlusion_dataset command in the README)
+#   RUNS_DIR  default runs (checkpoints and logs; not in git)
+# Environment: SIZE (network input [px], default 64), EPOCHS (default 10), JOBS (variants trained
+# at once, default 1; each uses one thread), VARIANTS (default all five, space-separated names),
+# BCE (default 0: the paper's loss; X adds X times a pixel-wise binary cross-entropy on the
+# occlusion map, and the runs are named <variant>_bce<X>), EXTRA_DATA (further datasets, passed
+# as more --data options: their training scenes are added) with TAG (appended to the run names).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+data="${1:-$root/data/train_sweethome3d}"
+runs="${2:-$root/runs}"
+size="${SIZE:-64}"
+epochs="${EPOCHS:-10}"
+jobs="${JOBS:-1}"
+bce="${BCE:-0}"
+extra_data="${EXTRA_DATA:-}"
+tag="${TAG:-}"
+[[ -z "$extra_data" || -n "$tag" ]] || { echo "train_table3: EXTRA_DATA needs a TAG" >&2; exit 1; }
+variants="${VARIANTS:-unet r_unet sr_unet sar_unet sar_unet-L1}"
+trainer="$root/.build_ws/devel/lib/occlusion_env/occlusion_train"
+[[ -x "$trainer" ]] || { echo "train_table3: $trainer not built (make build)" >&2; exit 1; }
+[[ -d "$data" ]] || { echo "train_table3: no dataset at $data (see the README)" >&2; exit 1; }
+mkdir -p "$runs" "$root/doc/training"
+# From the source tree, with paths relative to it (as the manifests record them).
+data="$(realpath --relative-to="$root" "$data")"
+runs="$(realpath --relative-to="$root" "$runs")"
+relative_extra=""
+for dir in $extra_data; do relative_extra+=" $(realpath --relative-to="$root" "$dir")"; done
+extra_data="$relative_extra"
+cd "$root"
+
+# One variant: its command, run to the end (resuming), then its results copied into doc/training.
+train_one() {
+  local name=$1 variant=${1%-L1} loss=mse
+  [[ "$name" == *-L1 ]] && loss=smooth_l1
+  local extra=()
+  if [[ "$bce" != 0 ]]; then
+    name="${name}_bce${bce}"
+    extra=(--bce-weight "$bce")
+  fi
+  local dir
+  for dir in $extra_data; do
+    extra+=(--data "$dir")
+  done
+  [[ -n "$tag" ]] && name="${name}_${tag}"
+  local run="$runs/table3_${name}_${size}"
+  local command="occlusion_train --data $data --out $run --variant $variant --size $size --epochs $epochs --direction-loss $loss ${extra[*]} --threads 1"
+  command="${command//  / }"
+  echo "train_table3: $name: $command (log: $run.log)"
+  "$trainer" --data "$data" --out "$run" --variant "$variant" --size "$size" --epochs "$epochs" \
+      --direction-loss "$loss" "${extra[@]}" --threads 1 >"$run.log" 2>&1 ||
+    { echo "train_table3: $name failed, see $run.log" >&2; return 1; }
+  python3 - "$run" "$root/doc/training/${name}_${size}px.json" "$command" <<'PY'
+import csv, hashlib, json, os, statistics, sys
+run, out, command = sys.argv[1:]
+manifest = json.load(open(os.path.join(run, "best.json")))
+epochs = list(csv.DictReader(open(os.path.join(run, "log.csv"))))
+manifest["command"] = command
+digest = lambda d: hashlib.sha256(open(os.path.join(d, "dataset.json"), "rb").read()).hexdigest()
+manifest["dataset_manifest_sha256"] = digest(manifest["dataset"])
+if "extra_datasets" in manifest:
+    manifest["extra_dataset_manifest_sha256"] = [digest(d) for d in manifest["extra_datasets"]]
+# The whole run: its length, wall time and speed (the best epoch's figures are "validation").
+manifest["run"] = {
+    "epochs": len(epochs),
+    "minutes": sum(float(e["seconds"]) for e in epochs) / 60.0,
+    "median_images_per_second": statistics.median(float(e["images_per_second"]) for e in epochs),
+}
+json.dump(manifest, open(out, "w"), indent=2)
+PY
+  cp "$run/log.csv" "$root/doc/training/${name}_${size}px.csv"
+  [[ -f "$run/curves.png" ]] && cp "$run/curves.png" "$root/doc/training/${name}_${size}px.png"
+  echo "train_table3: $name done: $(tail -n 1 "$run.log")"
+}
+export -f train_one
+export runs size epochs data root trainer bce extra_data tag
+printf '%s\n' $variants | xargs -P "$jobs" -I{} bash -c 'train_one {}'
