@@ -156,6 +156,19 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
   }
 }
 
+// A run's identity with its dataset folders made absolute and canonical: the same data given by
+// another path (relative, absolute, through a link) is the same data.
+nlohmann::json withCanonicalPaths(nlohmann::json identity) {
+  const auto canonical = [](const nlohmann::json& path) {
+    return fs::weakly_canonical(path.get<std::string>()).string();
+  };
+  identity["dataset"] = canonical(identity.at("dataset"));
+  if (identity.contains("extra_datasets")) {
+    for (nlohmann::json& dir : identity["extra_datasets"]) dir = canonical(dir);
+  }
+  return identity;
+}
+
 }  // namespace
 
 TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes) {
@@ -329,7 +342,7 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
   if (fs::exists(checkpoint_path) && fs::exists(state_path)) {
     std::ifstream in(state_path);
     const nlohmann::json state = nlohmann::json::parse(in);
-    if (state.at("identity") != identity) {
+    if (withCanonicalPaths(state.at("identity")) != withCanonicalPaths(identity)) {
       throw InvalidArgumentError("the checkpoint in " + run_dir +
                                  " was made with other options or data; use another --out folder");
     }

@@ -112,6 +112,11 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   const auto resumed = train(data, options, run_dir.string(), count);
   EXPECT_EQ(epochs_seen, 0) << "a finished run resumes with nothing left to do";
   EXPECT_EQ(resumed.size(), 6u);
+  TrainingData same_data_other_path = data;
+  same_data_other_path.dataset_dir = (data_dir / "." / "").string();
+  EXPECT_EQ(train(same_data_other_path, options, run_dir.string(), count).size(), 6u)
+      << "the same data by another path resumes too";
+  EXPECT_EQ(epochs_seen, 0);
   TrainingOptions other = options;
   other.learning_rate = 1e-4;
   EXPECT_THROW(train(data, other, run_dir.string(), {}), InvalidArgumentError);
