@@ -717,8 +717,10 @@ void networkRow(std::ostringstream& md, const std::string& name, const nlohmann:
   const nlohmann::json run = manifest.value("run", nlohmann::json::object());
   const std::string loss = training.value("direction_loss", "mse");
   md << std::fixed << "| " << name << " | " << net.value("variant", "?")
-     << (loss == "smooth_l1" ? "-L1" : "") << " | " << net.value("input_size", 0) << " | "
-     << manifest.value("epoch", 0) << " / " << training.value("epochs", 0) << " | ";
+     << (loss == "smooth_l1" ? "-L1" : "")
+     << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "") << " | "
+     << net.value("input_size", 0) << " | " << manifest.value("epoch", 0) << " / "
+     << training.value("epochs", 0) << " | ";
   if (run.contains("minutes")) {
     md << std::setprecision(0) << run.value("minutes", 0.0) << " min | ";
   } else {
@@ -740,17 +742,23 @@ std::string networkSection(const CommandLine& cl) {
      << "Validation figures (the epoch with the best validation IoU) on the validation scenes "
         "of the dataset (`data/train_sweethome3d`: 1000 Sweet Home 3D scenes of train-split "
         "chairs and tables, 20 frames each; whole scenes held out for validation: 16,000 "
-        "training and 4,000 validation frames), at the network's resolution. The variants "
-        "were trained by `scripts/train_table3.sh` on the same data, at the same resolution, "
-        "for the same number of epochs, one thread each (their commands, curves and logs are "
-        "in `doc/training/`); the shipped models by the commands in `models/MANIFEST.md`. "
+        "training and 4,000 validation frames), at the network's resolution. The rows from "
+        "`doc/training/` were trained by `scripts/train_table3.sh` (their commands in their "
+        "manifests there, with logs and curves; every run's IoU per epoch: "
+        "[doc/training/iou_per_epoch.png](doc/training/iou_per_epoch.png)): the five variants "
+        "under the paper's loss on the same data, at the same resolution, for the same number "
+        "of epochs, one thread each, one run each; a name with `_bce<X>` adds X times a "
+        "pixel-wise cross-entropy to the loss, a further tag more training scenes (the "
+        "manifest lists the datasets; the validation frames are the same). The shipped models: "
+        "the commands in `models/MANIFEST.md`. Training = the run's wall time. "
         "Epoch = best / of. Dice = soft Dice loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + "
         "1), mean over images (Eq. 10); IoU (of the occlusion class, over all validation "
         "pixels) and pixel accuracy of the occlusion map thresholded at 0.5; MSE = "
         "||prediction - (sin, cos)||^2 (Eq. 11); angle = mean angular error of the normalised "
         "prediction (gradient: the descent direction of the simulator's gradient; escape: the "
         "oracle's direction of escape).\n\n"
-        "The paper's rows: 256 px ShapeNet images (130,000 with its validation split), 50 epochs, its own "
+        "The paper's rows: 256 px ShapeNet images (130,000 with its validation split), 50 epochs, "
+        "its own "
         "gradient labels. Its Dice column is not comparable: the authors' loss "
         "(`loss.py`) is 1 - (sum(p t) + 1) / (sum(p^2) + sum(t^2) + 1), without the factor 2, "
         "so a perfect map scores 0.5 there; its IoU is the same occlusion-class IoU, averaged "
