@@ -716,6 +716,8 @@ void networkRow(std::ostringstream& md, const std::string& name, const nlohmann:
   const nlohmann::json training = manifest.value("training", nlohmann::json::object());
   const nlohmann::json run = manifest.value("run", nlohmann::json::object());
   const std::string loss = training.value("direction_loss", "mse");
+  // The validation's direction figure is the training's direction loss: SmoothL1 for -L1 runs.
+  const std::string loss_note = loss == "smooth_l1" ? " (SmoothL1)" : "";
   md << std::fixed << "| " << name << " | " << net.value("variant", "?")
      << (loss == "smooth_l1" ? "-L1" : "")
      << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "") << " | "
@@ -728,10 +730,10 @@ void networkRow(std::ostringstream& md, const std::string& name, const nlohmann:
   }
   md << std::setprecision(3) << v.value("val_dice_loss", 0.0) << " | " << std::setprecision(2)
      << 100.0 * v.value("val_pixel_accuracy", 0.0) << " % | " << 100.0 * v.value("val_iou", 0.0)
-     << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << " | "
+     << " % | " << std::setprecision(3) << v.value("val_gradient_mse", 0.0) << loss_note << " | "
      << std::setprecision(1) << v.value("val_gradient_angle_deg", 0.0) << " deg | "
-     << std::setprecision(3) << v.value("val_escape_mse", 0.0) << " | " << std::setprecision(1)
-     << v.value("val_escape_angle_deg", 0.0) << " deg |\n";
+     << std::setprecision(3) << v.value("val_escape_mse", 0.0) << loss_note << " | "
+     << std::setprecision(1) << v.value("val_escape_angle_deg", 0.0) << " deg |\n";
 }
 
 // Table 3 layout: the variants trained by scripts/train_table3.sh (doc/training/*.json) and
@@ -754,7 +756,8 @@ std::string networkSection(const CommandLine& cl) {
         "Epoch = best / of. Dice = soft Dice loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + "
         "1), mean over images (Eq. 10); IoU (of the occlusion class, over all validation "
         "pixels) and pixel accuracy of the occlusion map thresholded at 0.5; MSE = "
-        "||prediction - (sin, cos)||^2 (Eq. 11); angle = mean angular error of the normalised "
+        "||prediction - (sin, cos)||^2 (Eq. 11; for -L1 rows the SmoothL1 loss, beta 0.01, they "
+        "were trained with); angle = mean angular error of the normalised "
         "prediction (gradient: the descent direction of the simulator's gradient; escape: the "
         "oracle's direction of escape).\n\n"
         "The paper's rows: 256 px ShapeNet images (130,000 with its validation split), 50 epochs, "
