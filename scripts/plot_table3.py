@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Validation IoU and escape-direction error per epoch of every run in doc/training/ (the logs
-that scripts/train_table3.sh copies there), one line per run, in one PNG.
+"""Validation IoU and escape-direction error of every run in doc/training/ (the logs and manifests
+that scripts/train_table3.sh copies there) over the training images seen, one line per run.
 Usage: plot_table3.py [TRAINING_DIR] (default: doc/training of the source tree)"""
 import csv
 import glob
+import json
 import os
 import sys
 
@@ -12,10 +13,22 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def dataset_train_frames(manifest):
+    """Training frames of a manifest without train_frames (older ones), from its dataset.json."""
+    dataset = os.path.join(ROOT, manifest["dataset"], "dataset.json")
+    if not os.path.exists(dataset):
+        sys.exit("plot_table3: no train_frames in a manifest and no " + dataset + " to count")
+    with open(dataset) as f:
+        scenes = json.load(f)["scenes"]
+    frames = manifest["dataset_options"]["frames"]
+    return frames * sum(1 for scene in scenes if scene["split"] == "train")
+
 
 def main():
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    folder = sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "doc", "training")
+    folder = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "doc", "training")
     logs = sorted(glob.glob(os.path.join(folder, "*.csv")))
     if not logs:
         sys.exit("plot_table3: no *.csv in " + folder)
@@ -24,14 +37,17 @@ def main():
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
         name = os.path.splitext(os.path.basename(path))[0]
-        epochs = [int(r["epoch"]) for r in rows]
+        with open(os.path.splitext(path)[0] + ".json") as f:
+            manifest = json.load(f)
+        frames = manifest.get("train_frames") or dataset_train_frames(manifest)
+        epochs = [int(r["epoch"]) * frames / 1e6 for r in rows]
         axes[0].plot(epochs, [100 * float(r["val_iou"]) for r in rows], marker=".", label=name)
         axes[1].plot(epochs, [float(r["val_escape_angle_deg"]) for r in rows], marker=".",
                      label=name)
     axes[0].set_ylabel("validation IoU of the occlusion map [%]")
     axes[1].set_ylabel("escape direction: mean angular error [deg]")
     for ax in axes:
-        ax.set_xlabel("epoch")
+        ax.set_xlabel("training images seen [millions] (a marker per epoch)")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     fig.tight_layout()

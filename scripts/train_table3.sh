@@ -83,3 +83,5 @@ PY
 export -f train_one
 export runs size epochs data root trainer bce extra_data tag
 printf '%s\n' $variants | xargs -P "$jobs" -I{} bash -c 'train_one {}'
+/usr/bin/python3 "$root/scripts/plot_table3.py" "$root/doc/training" ||
+  echo "train_table3: plotting failed (python3-matplotlib?)" >&2
