@@ -378,16 +378,18 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
           batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
       if (options.augment) augment(batch);
       const NetworkOutput out = network->forward(batch.inputs);
-      const torch::Tensor loss =
+      torch::Tensor loss =
           options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
-          options.bce_weight *
-              torch::binary_cross_entropy_with_logits(out.occlusion_logits, batch.masks) +
           options.direction_weight *
               (maskedMean(
                    directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
                    batch.gradient_valid) +
                maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
                           batch.escape_valid));
+      if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
+        loss = loss + options.bce_weight * torch::binary_cross_entropy_with_logits(
+                                               out.occlusion_logits, batch.masks);
+      }
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
