@@ -28,15 +28,16 @@ if [[ "$model" == policy ]]; then
 fi
 mkdir -p "$root/models"
 cp "$run/$model.pt" "$root/models/$name.pt"
-python3 - "$run" "$model" "$root/models/$name.json" "$name" "$command" "$validation" <<'PY'
+python3 - "$run" "$model" "$root/models/$name.json" "$name" "$command" "$validation" "$root" <<'PY'
 import csv, hashlib, json, os, sys
-run, model, out, name, command, validation = sys.argv[1:]
+run, model, out, name, command, validation, root = sys.argv[1:]
 manifest = json.load(open(os.path.join(run, model + ".json")))
 manifest["file"] = name + ".pt"
 manifest["command"] = command
 if "dataset" in manifest:
     # The dataset the network was trained on, by the checksum of its manifest (dataset.json).
-    dataset_json = os.path.join(manifest["dataset"], "dataset.json")
+    # A relative dataset path is relative to the source tree, where the trainer ran.
+    dataset_json = os.path.join(root, manifest["dataset"], "dataset.json")
     manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
 if manifest.get("kind") == "ppo_policy":
     episodes = list(csv.DictReader(open(os.path.join(run, "episodes.csv"))))[-500:]

@@ -52,11 +52,11 @@ train_one() {
   done
   [[ -n "$tag" ]] && name="${name}_${tag}"
   local run="$runs/table3_${name}_${size}"
-  local command="occlusion_train --data $data --out $run --variant $variant --size $size --epochs $epochs --direction-loss $loss ${extra[*]} --threads 1"
-  command="${command//  / }"
+  local args=(--data "$data" --out "$run" --variant "$variant" --size "$size" --epochs "$epochs"
+    --direction-loss "$loss" "${extra[@]}" --threads 1)
+  local command="occlusion_train ${args[*]}"
   echo "train_table3: $name: $command (log: $run.log)"
-  "$trainer" --data "$data" --out "$run" --variant "$variant" --size "$size" --epochs "$epochs" \
-      --direction-loss "$loss" "${extra[@]}" --threads 1 >"$run.log" 2>&1 ||
+  "$trainer" "${args[@]}" >"$run.log" 2>&1 ||
     { echo "train_table3: $name failed, see $run.log" >&2; return 1; }
   python3 - "$run" "$root/doc/training/${name}_${size}px.json" "$command" <<'PY'
 import csv, hashlib, json, os, statistics, sys
