@@ -12,7 +12,8 @@
 # at once, default 1; each uses one thread), VARIANTS (default all five, space-separated names),
 # BCE (default 0: the paper's loss; X adds X times a pixel-wise binary cross-entropy on the
 # occlusion map, and the runs are named <variant>_bce<X>), EXTRA_DATA (further datasets, passed
-# as more --data options: their training scenes are added) with TAG (appended to the run names).
+# as more --data options: their training scenes are added) with TAG (appended to the run names),
+# MAX_SCENES (only the first N scenes of each dataset; default all).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="${1:-$root/data/train_sweethome3d}"
@@ -23,6 +24,7 @@ jobs="${JOBS:-1}"
 bce="${BCE:-0}"
 extra_data="${EXTRA_DATA:-}"
 tag="${TAG:-}"
+max_scenes="${MAX_SCENES:-0}"
 [[ -z "$extra_data" || -n "$tag" ]] || { echo "train_table3: EXTRA_DATA needs a TAG" >&2; exit 1; }
 variants="${VARIANTS:-unet r_unet sr_unet sar_unet sar_unet-L1}"
 trainer="$root/.build_ws/devel/lib/occlusion_env/occlusion_train"
@@ -50,6 +52,7 @@ train_one() {
   for dir in $extra_data; do
     extra+=(--data "$dir")
   done
+  [[ "$max_scenes" != 0 ]] && extra+=(--max-scenes "$max_scenes")
   [[ -n "$tag" ]] && name="${name}_${tag}"
   local run="$runs/table3_${name}_${size}"
   local args=(--data "$data" --out "$run" --variant "$variant" --size "$size" --epochs "$epochs"
@@ -81,7 +84,7 @@ PY
   echo "train_table3: $name done: $(tail -n 1 "$run.log")"
 }
 export -f train_one
-export runs size epochs data root trainer bce extra_data tag
+export runs size epochs data root trainer bce extra_data tag max_scenes
 printf '%s\n' $variants | xargs -P "$jobs" -I{} bash -c 'train_one {}'
 /usr/bin/python3 "$root/scripts/plot_table3.py" "$root/doc/training" ||
   echo "train_table3: plotting failed (python3-matplotlib?)" >&2

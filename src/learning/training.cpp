@@ -31,8 +31,8 @@ constexpr double kSmoothL1Beta = 0.01;
 
 Samples emptySamples(int64_t n, int size) {
   Samples samples;
-  samples.inputs = torch::empty({n, 4, size, size});
-  samples.masks = torch::empty({n, 1, size, size});
+  samples.inputs = torch::empty({n, 4, size, size}, torch::kHalf);
+  samples.masks = torch::empty({n, 1, size, size}, torch::kUInt8);
   samples.gradient = torch::zeros({n, 2});
   samples.gradient_valid = torch::zeros({n});
   samples.escape = torch::zeros({n, 2});
@@ -45,18 +45,20 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
                  int size, Samples& samples, int64_t first) {
   const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
+  const torch::Tensor input = torch::empty({4, size, size});
   cv::Mat mask_small;
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = first + k;
     const dataset::Frame& frame = *frames[k];
     writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), size, scratch,
-                      samples.inputs[i].data_ptr<float>());
+                      input.data_ptr<float>());
+    samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
-    float* mask_out = samples.masks[i].data_ptr<float>();
+    std::uint8_t* mask_out = samples.masks[i].data_ptr<std::uint8_t>();
     for (int row = 0; row < size; ++row) {
       for (int col = 0; col < size; ++col) {
-        mask_out[row * size + col] = mask_small.at<std::uint8_t>(row, col) >= 128 ? 1.0f : 0.0f;
+        mask_out[row * size + col] = mask_small.at<std::uint8_t>(row, col) >= 128 ? 1 : 0;
       }
     }
     const dataset::FrameLabels& labels = frame.labels;
@@ -108,11 +110,14 @@ struct Batch {
   torch::Tensor inputs, masks, gradient, gradient_valid, escape, escape_valid;
 };
 
+// A batch in 32-bit floats, whatever the samples are held in.
 Batch batchOf(const Samples& samples, const torch::Tensor& indices) {
-  return {
-      samples.inputs.index_select(0, indices),   samples.masks.index_select(0, indices),
-      samples.gradient.index_select(0, indices), samples.gradient_valid.index_select(0, indices),
-      samples.escape.index_select(0, indices),   samples.escape_valid.index_select(0, indices)};
+  return {samples.inputs.index_select(0, indices).to(torch::kFloat),
+          samples.masks.index_select(0, indices).to(torch::kFloat),
+          samples.gradient.index_select(0, indices),
+          samples.gradient_valid.index_select(0, indices),
+          samples.escape.index_select(0, indices),
+          samples.escape_valid.index_select(0, indices)};
 }
 
 // Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels) and horizontal flips with

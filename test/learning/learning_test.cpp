@@ -5,9 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
 
 #include "learning/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
@@ -199,6 +201,37 @@ TEST(LearningTest, SeveralDatasetsAddTrainingFramesOnly) {
   fs::remove_all(run_dir);
   fs::remove_all(labelled);
   fs::remove_all(extra);
+}
+
+// The samples are held as half floats and bytes: each is its frame's network input to half
+// precision and its thresholded occlusion map, in the dataset's frame order.
+TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_compact");
+  dataset::generateDataset(data_dir.string(), tinyDataset(2, 4, 0.5));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  ASSERT_EQ(data.train.inputs.scalar_type(), torch::kHalf);
+  ASSERT_EQ(data.train.masks.scalar_type(), torch::kUInt8);
+  const dataset::BopDataset bop(data_dir.string());
+  InputScratch scratch;
+  const torch::Tensor expected = torch::empty({4, 32, 32});
+  int64_t row = 0;
+  for (const dataset::Frame& frame : bop.frames()) {
+    if (frame.validation) continue;
+    writeNetworkInput(bop.readRgb(frame), bop.readDepthMeters(frame), 32, scratch,
+                      expected.data_ptr<float>());
+    const torch::Tensor held = data.train.inputs[row].to(torch::kFloat);
+    EXPECT_LE((held - expected).abs().max().item<float>(), 2e-3f) << "frame " << row;
+    // A pixel is occluded where at least half of its area is.
+    cv::Mat area;
+    cv::resize(bop.readOcclusionMask(frame), area, cv::Size(32, 32), 0, 0, cv::INTER_AREA);
+    const cv::Mat occluded = (area >= 128) / 255;
+    const torch::Tensor mask = torch::from_blob(occluded.data, {1, 32, 32}, torch::kUInt8);
+    EXPECT_TRUE(torch::equal(data.train.masks[row], mask)) << "frame " << row;
+    ++row;
+  }
+  EXPECT_EQ(row, data.train.size());
+  EXPECT_GT(data.train.masks.sum().item<int64_t>(), 0) << "some occlusion in the tiny scenes";
+  fs::remove_all(data_dir);
 }
 
 TEST(LearningTest, NetworkInputFollowsTheConvention) {

@@ -19,8 +19,11 @@ namespace learning {
 
 /// The frames of a dataset at the network's resolution.
 struct Samples {
-  torch::Tensor inputs;          // [N, 4, S, S] (network_input.hpp)
-  torch::Tensor masks;           // [N, 1, S, S] 0 / 1
+  // Held compactly, so that 100,000 frames fit in memory at 96 px: the inputs as 16-bit floats
+  // (rounding the network input by at most 1/16 of a grey level), the masks as bytes; a batch is
+  // made of 32-bit floats.
+  torch::Tensor inputs;          // [N, 4, S, S] half (network_input.hpp)
+  torch::Tensor masks;           // [N, 1, S, S] uint8 0 / 1
   torch::Tensor gradient;        // [N, 2] (sin, cos) of the descent direction
   torch::Tensor gradient_valid;  // [N] 0 / 1
   torch::Tensor escape;          // [N, 2] (sin, cos) of the oracle's first step
