@@ -55,12 +55,9 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
-    std::uint8_t* mask_out = samples.masks[i].data_ptr<std::uint8_t>();
-    for (int row = 0; row < size; ++row) {
-      for (int col = 0; col < size; ++col) {
-        mask_out[row * size + col] = mask_small.at<std::uint8_t>(row, col) >= 128 ? 1 : 0;
-      }
-    }
+    // Occluded (1) where at least half of the pixel's area is, written into the sample's bytes.
+    cv::Mat mask_out(size, size, CV_8UC1, samples.masks[i].data_ptr<std::uint8_t>());
+    cv::threshold(mask_small, mask_out, 127, 1, cv::THRESH_BINARY);
     const dataset::FrameLabels& labels = frame.labels;
     if (labels.descent) {
       samples.gradient[i][0] = labels.descent->sin;
