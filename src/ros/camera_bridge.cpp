@@ -162,7 +162,10 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
 
   ros::NodeHandle service_node(node_);
   service_node.setCallbackQueue(&service_queue_);
-  goal_publisher_ = node_.advertise<geometry_msgs::PoseStamped>(names::kCameraGoalTopic, 1);
+  // Latched: a robot driver that connects late, or whose connection is still being made when a
+  // step publishes, still gets the goal the bridge is waiting for.
+  goal_publisher_ =
+      node_.advertise<geometry_msgs::PoseStamped>(names::kCameraGoalTopic, 1, /*latch=*/true);
   if (!options_.scene_service.empty()) {
     scene_client_ = node_.serviceClient<Reset>(options_.scene_service);
   }
