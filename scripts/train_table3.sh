@@ -13,7 +13,9 @@
 # BCE (default 0: the paper's loss; X adds X times a pixel-wise binary cross-entropy on the
 # occlusion map, and the runs are named <variant>_bce<X>), EXTRA_DATA (further datasets, passed
 # as more --data options: their training scenes are added) with TAG (appended to the run names),
-# MAX_SCENES (only the first N scenes of each dataset; default all).
+# MAX_SCENES (only the first N scenes of each dataset; default all), INIT_FROM (a model to start
+# from instead of random weights, a warm restart, passed as --init-from; needs a TAG; only with
+# one variant, the model's), LR (AdamW's peak learning rate; default the trainer's, 0.001).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 data="${1:-$root/data/train_sweethome3d}"
@@ -25,8 +27,13 @@ bce="${BCE:-0}"
 extra_data="${EXTRA_DATA:-}"
 tag="${TAG:-}"
 max_scenes="${MAX_SCENES:-0}"
+init_from="${INIT_FROM:-}"
+learning_rate="${LR:-}"
 [[ -z "$extra_data" || -n "$tag" ]] || { echo "train_table3: EXTRA_DATA needs a TAG" >&2; exit 1; }
 variants="${VARIANTS:-unet r_unet sr_unet sar_unet sar_unet-L1}"
+[[ -z "$init_from" || -n "$tag" ]] || { echo "train_table3: INIT_FROM needs a TAG" >&2; exit 1; }
+[[ -z "$init_from" || "$(wc -w <<<"$variants")" == 1 ]] ||
+  { echo "train_table3: INIT_FROM needs one variant (VARIANTS=...)" >&2; exit 1; }
 trainer="$root/.build_ws/devel/lib/occlusion_env/occlusion_train"
 [[ -x "$trainer" ]] || { echo "train_table3: $trainer not built (make build)" >&2; exit 1; }
 [[ -d "$data" ]] || { echo "train_table3: no dataset at $data (see the README)" >&2; exit 1; }
@@ -37,6 +44,7 @@ runs="$(realpath --relative-to="$root" "$runs")"
 relative_extra=""
 for dir in $extra_data; do relative_extra+=" $(realpath --relative-to="$root" "$dir")"; done
 extra_data="$relative_extra"
+[[ -z "$init_from" ]] || init_from="$(realpath --relative-to="$root" "$init_from")"
 cd "$root"
 
 # One variant: its command, run to the end (resuming), then its results copied into doc/training.
@@ -53,6 +61,8 @@ train_one() {
     extra+=(--data "$dir")
   done
   [[ "$max_scenes" != 0 ]] && extra+=(--max-scenes "$max_scenes")
+  [[ -n "$init_from" ]] && extra+=(--init-from "$init_from")
+  [[ -n "$learning_rate" ]] && extra+=(--lr "$learning_rate")
   [[ -n "$tag" ]] && name="${name}_${tag}"
   local run="$runs/table3_${name}_${size}"
   local args=(--data "$data" --out "$run" --variant "$variant" --size "$size" --epochs "$epochs"
@@ -69,6 +79,9 @@ epochs = list(csv.DictReader(open(os.path.join(run, "log.csv"))))
 manifest["command"] = command
 digest = lambda d: hashlib.sha256(open(os.path.join(d, "dataset.json"), "rb").read()).hexdigest()
 manifest["dataset_manifest_sha256"] = digest(manifest["dataset"])
+if "initialised_from" in manifest:
+    model = manifest["initialised_from"]["model"]
+    manifest["initialised_from"]["sha256"] = hashlib.sha256(open(model, "rb").read()).hexdigest()
 if "extra_datasets" in manifest:
     manifest["extra_dataset_manifest_sha256"] = [digest(d) for d in manifest["extra_datasets"]]
 # The whole run: its length, wall time and speed (the best epoch's figures are "validation").
@@ -84,7 +97,7 @@ PY
   echo "train_table3: $name done: $(tail -n 1 "$run.log")"
 }
 export -f train_one
-export runs size epochs data root trainer bce extra_data tag max_scenes
+export runs size epochs data root trainer bce extra_data tag max_scenes init_from learning_rate
 printf '%s\n' $variants | xargs -P "$jobs" -I{} bash -c 'train_one {}'
 /usr/bin/python3 "$root/scripts/plot_table3.py" "$root/doc/training" ||
   echo "train_table3: plotting failed (python3-matplotlib?)" >&2

@@ -165,6 +165,8 @@ nlohmann::json withCanonicalPaths(nlohmann::json identity) {
     return fs::weakly_canonical(path.get<std::string>()).string();
   };
   identity["dataset"] = canonical(identity.at("dataset"));
+  nlohmann::json& options = identity.at("options");
+  if (options.contains("init_from")) options["init_from"] = canonical(options["init_from"]);
   if (identity.contains("extra_datasets")) {
     for (nlohmann::json& dir : identity["extra_datasets"]) dir = canonical(dir);
   }
@@ -245,17 +247,20 @@ void TrainingOptions::validate() const {
 }
 
 nlohmann::json TrainingOptions::toJson() const {
-  return {{"network", network.toJson()},
-          {"epochs", epochs},
-          {"batch_size", batch_size},
-          {"learning_rate", learning_rate},
-          {"weight_decay", weight_decay},
-          {"dice_weight", dice_weight},
-          {"direction_weight", direction_weight},
-          {"bce_weight", bce_weight},
-          {"direction_loss", direction_loss},
-          {"augment", augment},
-          {"seed", seed}};
+  nlohmann::json json = {{"network", network.toJson()},
+                         {"epochs", epochs},
+                         {"batch_size", batch_size},
+                         {"learning_rate", learning_rate},
+                         {"weight_decay", weight_decay},
+                         {"dice_weight", dice_weight},
+                         {"direction_weight", direction_weight},
+                         {"bce_weight", bce_weight},
+                         {"direction_loss", direction_loss},
+                         {"augment", augment},
+                         {"seed", seed}};
+  // Only when set, so that runs from random weights keep the identity they always had.
+  if (!init_from.empty()) json["init_from"] = init_from;
+  return json;
 }
 
 nlohmann::json EpochMetrics::toJson() const {
@@ -332,6 +337,19 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
                              {"train_frames", data.train.size()},
                              {"validation_frames", data.validation.size()}};
   if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
+  // The model a warm restart starts from: what it was (its manifest) is part of the run.
+  nlohmann::json init_manifest;
+  if (!options.init_from.empty()) {
+    init_manifest = readManifest(options.init_from);
+    if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
+        !init_manifest.contains("network") ||
+        NetworkConfig::fromJson(init_manifest.at("network")).toJson() != options.network.toJson()) {
+      throw InvalidArgumentError("--init-from " + options.init_from +
+                                 " is not a multi-task network like the one being trained (" +
+                                 options.network.toJson().dump() + ")");
+    }
+    identity["init_from_manifest"] = init_manifest;
+  }
 
   torch::manual_seed(options.seed);
   MultiTaskUNet network(options.network);
@@ -359,6 +377,9 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
       history.push_back(epoch.get<EpochMetrics>());
     best_iou = state.at("best_iou").get<double>();
     first_epoch = static_cast<int>(history.size()) + 1;
+  } else if (!options.init_from.empty()) {
+    loadCheckedParameters(*network, options.init_from,
+                          "the network being trained (" + options.network.toJson().dump() + ")");
   }
 
   const int64_t n = data.train.size();
@@ -419,6 +440,13 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
                              {"epoch", epoch},
                              {"validation", metrics.toJson()}};
       if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
+      if (!options.init_from.empty()) {
+        info["initialised_from"] = {
+            {"model", options.init_from},
+            {"training", init_manifest.value("training", nlohmann::json())},
+            {"epoch", init_manifest.value("epoch", 0)},
+            {"validation", init_manifest.value("validation", nlohmann::json())}};
+      }
       saveModel(network, (fs::path(run_dir) / "best.pt").string(), info);
     }
     // Checkpoint: written next to the old one, then renamed over it.

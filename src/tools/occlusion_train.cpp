@@ -44,6 +44,9 @@ Options:
   --bce-weight X         adds X times a pixel-wise binary cross-entropy on the occlusion map to
                          the paper's loss (default 0: the paper's loss)
   --no-augment           no colour jitter or flips
+  --init-from MODEL      start from MODEL's weights (a best.pt of an earlier run of the same
+                         network) instead of random ones: a new cosine schedule and a fresh
+                         optimizer on them (a warm restart); recorded in the manifests
   --max-scenes N         use only the first N scenes of the dataset
   --seed S               (default 1)
   --threads N            libtorch threads (default: all cores)
@@ -129,6 +132,8 @@ int main(int argc, char** argv) {
         options.bce_weight = reader.number(0.0, 1000.0);
       } else if (flag == "--no-augment") {
         options.augment = false;
+      } else if (flag == "--init-from") {
+        options.init_from = reader.text();
       } else if (flag == "--max-scenes") {
         max_scenes = static_cast<int>(reader.integer(1, 10000000));
       } else if (flag == "--seed") {

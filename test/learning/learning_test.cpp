@@ -203,6 +203,63 @@ TEST(LearningTest, SeveralDatasetsAddTrainingFramesOnly) {
   fs::remove_all(extra);
 }
 
+// The largest difference between the parameters of two saved models of the same network.
+double largestParameterDifference(const std::string& a, const std::string& b) {
+  const LoadedModel first = loadModel(a), second = loadModel(b);
+  const auto other = second.network->named_parameters();
+  double largest = 0.0;
+  for (const auto& item : first.network->named_parameters()) {
+    largest = std::max(largest, (item.value() - other[item.key()]).abs().max().item<double>());
+  }
+  return largest;
+}
+
+// --init-from: a run starts from the given model's weights (a warm restart), records it, refuses
+// a model of another network, and resumes only with the same starting model.
+TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_warm_data");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  const fs::path source_dir = temporaryDir("occlusion_env_learning_warm_source");
+  train(data, tinyTraining(3), source_dir.string(), {});
+  const std::string source = (source_dir / "best.pt").string();
+
+  // With a vanishing learning rate the weights stay where they started: at the source's with
+  // --init-from, at random ones without.
+  TrainingOptions still = tinyTraining(1);
+  still.learning_rate = 1e-7;
+  still.seed = 2;
+  const fs::path fresh_dir = temporaryDir("occlusion_env_learning_warm_fresh");
+  train(data, still, fresh_dir.string(), {});
+  EXPECT_GT(largestParameterDifference(source, (fresh_dir / "best.pt").string()), 1e-2);
+  TrainingOptions warm = still;
+  warm.init_from = source;
+  const fs::path warm_dir = temporaryDir("occlusion_env_learning_warm_run");
+  train(data, warm, warm_dir.string(), {});
+  EXPECT_LT(largestParameterDifference(source, (warm_dir / "best.pt").string()), 1e-5);
+  std::ifstream manifest_file(warm_dir / "best.json");
+  const nlohmann::json manifest = nlohmann::json::parse(manifest_file);
+  EXPECT_EQ(manifest.at("initialised_from").at("model").get<std::string>(), source);
+  EXPECT_EQ(manifest.at("training").at("init_from").get<std::string>(), source);
+  EXPECT_EQ(manifest.at("initialised_from").at("epoch").get<int>(),
+            loadModel(source).manifest.at("epoch").get<int>());
+
+  // Resuming needs the same starting model; a model of another network is refused.
+  TrainingOptions other_start = warm;
+  other_start.init_from = (fresh_dir / "best.pt").string();
+  EXPECT_THROW(train(data, other_start, warm_dir.string(), {}), InvalidArgumentError);
+  TrainingOptions wider = warm;
+  wider.network.base_channels = 16;
+  const fs::path refused_dir = temporaryDir("occlusion_env_learning_warm_refused");
+  EXPECT_THROW(train(data, wider, refused_dir.string(), {}), InvalidArgumentError);
+  TrainingOptions missing = warm;
+  missing.init_from = (source_dir / "no_such.pt").string();
+  EXPECT_THROW(train(data, missing, refused_dir.string(), {}), InvalidArgumentError);
+  for (const fs::path& dir : {data_dir, source_dir, fresh_dir, warm_dir, refused_dir}) {
+    fs::remove_all(dir);
+  }
+}
+
 // The samples are held as half floats and bytes: each is its frame's network input to half
 // precision and its thresholded occlusion map, in the dataset's frame order.
 TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {

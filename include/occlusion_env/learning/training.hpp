@@ -63,6 +63,9 @@ struct TrainingOptions {
   bool augment = true;                 // colour jitter and horizontal flips
   std::uint64_t seed = 1;
   int threads = 0;  // libtorch threads; 0 = the machine's cores
+  // A model file (saveModel) of the same network to start from instead of random weights: the
+  // schedule and the optimizer start afresh on it (a warm restart). Empty: random weights.
+  std::string init_from;
 
   void validate() const;
   nlohmann::json toJson() const;
