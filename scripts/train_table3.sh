@@ -71,29 +71,7 @@ train_one() {
   echo "train_table3: $name: $command (log: $run.log)"
   "$trainer" "${args[@]}" >"$run.log" 2>&1 ||
     { echo "train_table3: $name failed, see $run.log" >&2; return 1; }
-  python3 - "$run" "$root/doc/training/${name}_${size}px.json" "$command" <<'PY'
-import csv, hashlib, json, os, statistics, sys
-run, out, command = sys.argv[1:]
-manifest = json.load(open(os.path.join(run, "best.json")))
-epochs = list(csv.DictReader(open(os.path.join(run, "log.csv"))))
-manifest["command"] = command
-digest = lambda d: hashlib.sha256(open(os.path.join(d, "dataset.json"), "rb").read()).hexdigest()
-manifest["dataset_manifest_sha256"] = digest(manifest["dataset"])
-if "initialised_from" in manifest:
-    model = manifest["initialised_from"]["model"]
-    manifest["initialised_from"]["sha256"] = hashlib.sha256(open(model, "rb").read()).hexdigest()
-if "extra_datasets" in manifest:
-    manifest["extra_dataset_manifest_sha256"] = [digest(d) for d in manifest["extra_datasets"]]
-# The whole run: its length, wall time and speed (the best epoch's figures are "validation").
-manifest["run"] = {
-    "epochs": len(epochs),
-    "minutes": sum(float(e["seconds"]) for e in epochs) / 60.0,
-    "median_images_per_second": statistics.median(float(e["images_per_second"]) for e in epochs),
-}
-json.dump(manifest, open(out, "w"), indent=2)
-PY
-  cp "$run/log.csv" "$root/doc/training/${name}_${size}px.csv"
-  [[ -f "$run/curves.png" ]] && cp "$run/curves.png" "$root/doc/training/${name}_${size}px.png"
+  python3 "$root/scripts/record_run.py" "$run" "$root/doc/training/${name}_${size}px" "$command"
   echo "train_table3: $name done: $(tail -n 1 "$run.log")"
 }
 export -f train_one

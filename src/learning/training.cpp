@@ -233,6 +233,46 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, in
   return out;
 }
 
+Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
+                        const nlohmann::json& model_manifest) {
+  if (dirs.empty()) throw InvalidArgumentError("no dataset given");
+  // The model's training datasets, as recorded (paths relative to where it was trained, which
+  // is where the tools run from).
+  std::set<std::string> trained_on;
+  const auto canonical = [](const std::string& path) {
+    return fs::weakly_canonical(path).string();
+  };
+  if (model_manifest.contains("dataset")) {
+    trained_on.insert(canonical(model_manifest["dataset"].get<std::string>()));
+  }
+  for (const nlohmann::json& dir :
+       model_manifest.value("extra_datasets", nlohmann::json::array())) {
+    trained_on.insert(canonical(dir.get<std::string>()));
+  }
+  std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
+  int64_t count = 0;
+  for (const std::string& dir : dirs) {
+    datasets.push_back(std::make_unique<dataset::BopDataset>(dir));
+    const nlohmann::json& options = datasets.back()->manifest().at("options");
+    if (trained_on.count(canonical(dir)) > 0 ||
+        options == model_manifest.value("dataset_options", nlohmann::json())) {
+      throw InvalidArgumentError("the model was trained on " + dir +
+                                 ": check it on a dataset of other scenes");
+    }
+    count += static_cast<int64_t>(datasets.back()->frames().size());
+  }
+  if (count == 0) throw InvalidArgumentError("no frames in the dataset(s) from " + dirs.front());
+  Samples samples = emptySamples(count, size);
+  int64_t row = 0;
+  for (const auto& data : datasets) {
+    std::vector<const dataset::Frame*> frames;
+    for (const dataset::Frame& frame : data->frames()) frames.push_back(&frame);
+    fillSamples(*data, frames, size, samples, row);
+    row += static_cast<int64_t>(frames.size());
+  }
+  return samples;
+}
+
 void TrainingOptions::validate() const {
   network.validate();
   if (epochs < 1) throw InvalidArgumentError("epochs must be >= 1");

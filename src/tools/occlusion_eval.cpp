@@ -721,9 +721,20 @@ void networkRow(std::ostringstream& md, const std::string& name, const nlohmann:
   md << std::fixed << "| " << name << " | " << net.value("variant", "?")
      << (loss == "smooth_l1" ? "-L1" : "")
      << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "") << " | "
-     << net.value("input_size", 0) << " | " << manifest.value("epoch", 0) << " / "
-     << training.value("epochs", 0) << " | ";
-  if (run.contains("minutes")) {
+     << net.value("input_size", 0) << " | ";
+  // A warm restart (--init-from) continues the epochs and minutes of the run it started from.
+  const nlohmann::json start = manifest.value("initialised_from", nlohmann::json::object());
+  const std::string before =
+      start.contains("epoch")
+          ? std::to_string(start.value("epochs_before", start.value("epoch", 0))) + "+"
+          : "";
+  md << before << manifest.value("epoch", 0) << " / " << before << training.value("epochs", 0)
+     << " | ";
+  const nlohmann::json start_run = start.value("run", nlohmann::json::object());
+  if (run.contains("minutes") && start_run.contains("minutes")) {
+    md << std::setprecision(0) << start_run.value("minutes", 0.0) << "+"
+       << run.value("minutes", 0.0) << " min | ";
+  } else if (run.contains("minutes")) {
     md << std::setprecision(0) << run.value("minutes", 0.0) << " min | ";
   } else {
     md << "- | ";
@@ -753,7 +764,10 @@ std::string networkSection(const CommandLine& cl) {
         "pixel-wise cross-entropy to the loss, a further tag more training scenes (the "
         "manifest lists the datasets; the validation frames are the same). The shipped models: "
         "the commands in `models/MANIFEST.md`. Training = the run's wall time. "
-        "Epoch = best / of. Dice = soft Dice loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + "
+        "Epoch = best / of; a+b: a warm restart, b more epochs (a new cosine schedule) from "
+        "weights trained for a epochs (`--init-from`; the minutes of the runs before first). Dice "
+        "= soft Dice "
+        "loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + "
         "1), mean over images (Eq. 10); IoU (of the occlusion class, over all validation "
         "pixels) and pixel accuracy of the occlusion map thresholded at 0.5; MSE = "
         "||prediction - (sin, cos)||^2 (Eq. 11; for -L1 rows the SmoothL1 loss, beta 0.01, they "

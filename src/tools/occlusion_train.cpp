@@ -4,16 +4,19 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/training.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
@@ -50,6 +53,9 @@ Options:
   --max-scenes N         use only the first N scenes of the dataset
   --seed S               (default 1)
   --threads N            libtorch threads (default: all cores)
+  --check M              instead: the figures of model M (as validation's) on every frame of
+                         the --data datasets, which must be other scenes than M's training and
+                         validation ones (e.g. a dataset of seeds 950000 on, --validation 0)
   --bench-inference M    instead: time one learned step's inference with model M (input from a
                          256 x 256 observation, batch 1, one thread) and exit
   --help                 this text
@@ -88,6 +94,45 @@ int benchInference(const std::string& model_path) {
   return 0;
 }
 
+// Validation's figures of a model on every frame of datasets it was neither trained nor chosen
+// on, printed and written as JSON beside the model (<model>.check.json).
+int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
+               int threads) {
+  using namespace occlusion_env;
+  try {
+    torch::set_num_threads(threads > 0 ? threads
+                                       : std::max(1u, std::thread::hardware_concurrency()));
+    learning::LoadedModel model = learning::loadModel(model_path);
+    const int size = model.network->config().input_size;
+    std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";
+    const learning::Samples frames = learning::loadCheckFrames(data_dirs, size, model.manifest);
+    const std::string loss =
+        model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
+    const learning::EpochMetrics m = learning::evaluate(model.network, frames, 64, loss);
+    nlohmann::json result = {{"model", model_path},
+                             {"datasets", data_dirs},
+                             {"frames", frames.size()},
+                             {"figures", m.toJson()}};
+    for (const char* unused :
+         {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
+      result["figures"].erase(unused);
+    }
+    const std::string out =
+        std::filesystem::path(model_path).replace_extension(".check.json").string();
+    std::ofstream(out) << result.dump(2) << '\n';
+    std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
+              << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
+              << 100.0 * m.val_pixel_accuracy << " %, dice loss " << std::setprecision(4)
+              << m.val_dice_loss << ", gradient " << std::setprecision(1)
+              << m.val_gradient_angle_deg << " deg, escape " << m.val_escape_angle_deg << " deg ("
+              << out << ")\n";
+  } catch (const std::exception& error) {
+    std::cerr << "occlusion_train: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -97,6 +142,7 @@ int main(int argc, char** argv) {
   std::string run_dir;
   int max_scenes = 0;
   std::string bench_model;
+  std::string check_model;
   try {
     tools::ArgumentReader reader(argc, argv);
     while (reader.next()) {
@@ -138,6 +184,8 @@ int main(int argc, char** argv) {
         max_scenes = static_cast<int>(reader.integer(1, 10000000));
       } else if (flag == "--seed") {
         options.seed = reader.unsignedInteger();
+      } else if (flag == "--check") {
+        check_model = reader.text();
       } else if (flag == "--bench-inference") {
         bench_model = reader.text();
       } else if (flag == "--threads") {
@@ -146,7 +194,10 @@ int main(int argc, char** argv) {
         reader.unknown();
       }
     }
-    if (bench_model.empty() && (data_dirs.empty() || run_dir.empty())) {
+    if (!check_model.empty() && data_dirs.empty()) {
+      throw tools::ArgumentError("--check needs --data");
+    }
+    if (bench_model.empty() && check_model.empty() && (data_dirs.empty() || run_dir.empty())) {
       throw tools::ArgumentError("--data and --out are required");
     }
   } catch (const tools::ArgumentError& error) {
@@ -154,6 +205,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!bench_model.empty()) return benchInference(bench_model);
+  if (!check_model.empty()) return checkModel(check_model, data_dirs, options.threads);
   try {
     options.validate();
     if (learning::referenceBlasLoaded()) {

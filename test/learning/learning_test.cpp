@@ -260,6 +260,30 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   }
 }
 
+// A model is checked on every frame of other scenes than it was trained on; its own datasets are
+// refused.
+TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_check_data");
+  const fs::path other_dir = temporaryDir("occlusion_env_learning_check_other");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  dataset::generateDataset(other_dir.string(), tinyDataset(2, 4, 0.0, 100));
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_check_run");
+  train(loadTrainingData(data_dir.string(), 32), tinyTraining(1), run_dir.string(), {});
+  LoadedModel model = loadModel((run_dir / "best.pt").string());
+
+  EXPECT_THROW(loadCheckFrames({data_dir.string()}, 32, model.manifest), InvalidArgumentError);
+  EXPECT_THROW(loadCheckFrames({other_dir.string(), (data_dir / ".").string()}, 32, model.manifest),
+               InvalidArgumentError)
+      << "the training data by another path";
+  const Samples frames = loadCheckFrames({other_dir.string()}, 32, model.manifest);
+  EXPECT_EQ(frames.size(), 8) << "every frame, whatever its split";
+  const EpochMetrics figures = evaluate(model.network, frames, 4, "mse");
+  EXPECT_GE(figures.val_iou, 0.0);
+  EXPECT_LE(figures.val_iou, 1.0);
+  EXPECT_GT(figures.val_pixel_accuracy, 0.5);
+  for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
+}
+
 // The samples are held as half floats and bytes: each is its frame's network input to half
 // precision and its thresholded occlusion map, in the dataset's frame order.
 TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {

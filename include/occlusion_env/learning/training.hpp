@@ -49,6 +49,13 @@ TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes =
 /// that is in two of them. `max_scenes` applies to each.
 TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, int max_scenes = 0);
 
+/// Every frame (of training and validation scenes alike) of datasets that a model was not trained
+/// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
+/// Refuses (InvalidArgumentError) a dataset that `model_manifest` lists as trained on (by path)
+/// or whose options equal those of the model's first dataset.
+Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
+                        const nlohmann::json& model_manifest);
+
 struct TrainingOptions {
   NetworkConfig network;
   int epochs = 15;
