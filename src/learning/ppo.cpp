@@ -9,12 +9,12 @@
 #include <numeric>
 #include <random>
 #include <sstream>
-#include <thread>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
+#include "occlusion_env/learning/training.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -574,9 +574,7 @@ class PpoTrainer {
 PolicyNetwork trainPpo(const PpoOptions& options, int environment_count,
                        const VectorEnvironment::Factory& factory, const ResetOptions& reset,
                        const std::string& run_dir, const PpoCallbacks& callbacks) {
-  torch::set_num_threads(options.threads > 0
-                             ? options.threads
-                             : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
+  setLibtorchThreads(options.threads);
   torch::manual_seed(options.seed);
   PpoTrainer trainer(options, environment_count, factory, reset, run_dir, callbacks);
   return trainer.run();

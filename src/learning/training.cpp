@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
@@ -158,17 +159,20 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
   }
 }
 
+// `path` made absolute and canonical: the same folder by another path (relative, absolute,
+// through a link) gives the same string.
+std::string canonicalPath(const std::string& path) {
+  return fs::weakly_canonical(path).string();
+}
+
 // A run's identity with its dataset folders made absolute and canonical: the same data given by
 // another path (relative, absolute, through a link) is the same data.
 nlohmann::json withCanonicalPaths(nlohmann::json identity) {
-  const auto canonical = [](const nlohmann::json& path) {
-    return fs::weakly_canonical(path.get<std::string>()).string();
-  };
-  identity["dataset"] = canonical(identity.at("dataset"));
+  identity["dataset"] = canonicalPath(identity.at("dataset"));
   nlohmann::json& options = identity.at("options");
-  if (options.contains("init_from")) options["init_from"] = canonical(options["init_from"]);
+  if (options.contains("init_from")) options["init_from"] = canonicalPath(options["init_from"]);
   if (identity.contains("extra_datasets")) {
-    for (nlohmann::json& dir : identity["extra_datasets"]) dir = canonical(dir);
+    for (nlohmann::json& dir : identity["extra_datasets"]) dir = canonicalPath(dir);
   }
   return identity;
 }
@@ -239,22 +243,19 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
   // The model's training datasets, as recorded (paths relative to where it was trained, which
   // is where the tools run from).
   std::set<std::string> trained_on;
-  const auto canonical = [](const std::string& path) {
-    return fs::weakly_canonical(path).string();
-  };
   if (model_manifest.contains("dataset")) {
-    trained_on.insert(canonical(model_manifest["dataset"].get<std::string>()));
+    trained_on.insert(canonicalPath(model_manifest["dataset"]));
   }
   for (const nlohmann::json& dir :
        model_manifest.value("extra_datasets", nlohmann::json::array())) {
-    trained_on.insert(canonical(dir.get<std::string>()));
+    trained_on.insert(canonicalPath(dir));
   }
   std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
   int64_t count = 0;
   for (const std::string& dir : dirs) {
     datasets.push_back(std::make_unique<dataset::BopDataset>(dir));
     const nlohmann::json& options = datasets.back()->manifest().at("options");
-    if (trained_on.count(canonical(dir)) > 0 ||
+    if (trained_on.count(canonicalPath(dir)) > 0 ||
         options == model_manifest.value("dataset_options", nlohmann::json())) {
       throw InvalidArgumentError("the model was trained on " + dir +
                                  ": check it on a dataset of other scenes");
@@ -366,8 +367,7 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     throw InvalidArgumentError("the data is at " + std::to_string(data.train.inputs.size(2)) +
                                " px, the network at " + std::to_string(expected_size));
   }
-  torch::set_num_threads(options.threads > 0 ? options.threads
-                                             : std::max(1u, std::thread::hardware_concurrency()));
+  setLibtorchThreads(options.threads);
   fs::create_directories(run_dir);
   const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
   const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
@@ -525,6 +525,11 @@ std::string loadedBlasLibrary() {
     }
   }
   return "";
+}
+
+void setLibtorchThreads(int threads) {
+  torch::set_num_threads(
+      threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency())));
 }
 
 bool referenceBlasLoaded() {

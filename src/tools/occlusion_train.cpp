@@ -9,7 +9,6 @@
 #include <iostream>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -100,8 +99,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                int threads) {
   using namespace occlusion_env;
   try {
-    torch::set_num_threads(threads > 0 ? threads
-                                       : std::max(1u, std::thread::hardware_concurrency()));
+    learning::setLibtorchThreads(threads);
     learning::LoadedModel model = learning::loadModel(model_path);
     const int size = model.network->config().input_size;
     std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";

@@ -116,5 +116,8 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
 std::string loadedBlasLibrary();
 bool referenceBlasLoaded();
 
+/// Sets libtorch's thread count: `threads`, or the machine's cores when it is 0.
+void setLibtorchThreads(int threads);
+
 }  // namespace learning
 }  // namespace occlusion_env
