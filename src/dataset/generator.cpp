@@ -255,8 +255,10 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
        "of step_size in one direction ~ U[0, 2 pi) from the previous frame (elevation clamped)"},
       {"model_split",
        {{"split", "train"}, {"train_models", train_models}, {"test_models_excluded", test_models}}},
-      {"validation", "whole scenes: every " + std::to_string(every) + "th scene (index % " +
-                         std::to_string(every) + " == " + std::to_string(every - 1) + ")"},
+      {"validation", every > 0 ? "whole scenes: those with index % " + std::to_string(every) +
+                                     " == " + std::to_string(every - 1) + " (one in " +
+                                     std::to_string(every) + ")"
+                               : std::string("none: every scene is for training")},
       {"scenes", scenes}};
 }
 

@@ -148,6 +148,8 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
   int validation = 0;
   for (const Frame& frame : data.frames()) validation += frame.validation;
   EXPECT_EQ(validation, 12);  // one of the two scenes
+  EXPECT_EQ(readJson(fs::path(dir) / "dataset.json").at("validation"),
+            "whole scenes: those with index % 2 == 1 (one in 2)");
   const cv::Mat depth = data.readDepthMeters(data.frames().front());
   EXPECT_EQ(depth.type(), CV_32FC1);
 
@@ -167,6 +169,17 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
   } catch (const InvalidArgumentError& error) {
     EXPECT_NE(std::string(error.what()).find("size"), std::string::npos) << error.what();
   }
+  // Without validation every scene is for training, and the manifest says so.
+  DatasetOptions all_training = tinyOptions();
+  all_training.scenes = 1;
+  all_training.frames = 2;
+  all_training.validation_fraction = 0.0;
+  generateDataset(dir + "_all_training", all_training);
+  EXPECT_EQ(readJson(fs::path(dir + "_all_training") / "dataset.json").at("validation"),
+            "none: every scene is for training");
+  for (const Frame& frame : BopDataset(dir + "_all_training").frames())
+    EXPECT_FALSE(frame.validation);
+  fs::remove_all(dir + "_all_training");
   // Test seeds are refused.
   DatasetOptions test_seeds = tinyOptions();
   test_seeds.first_seed = kFirstTestSeed - 1;
