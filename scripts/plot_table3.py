@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Validation IoU and escape-direction error of every run in doc/training/ (the logs and manifests
-that scripts/train_table3.sh copies there) over the training images seen, one line per run.
+that scripts/train_table3.sh copies there) over the training images seen, one line per run. A
+warm restart (--init-from) starts where its starting model's run stood at the epoch it was taken
+from, joined to it, so a chain of restarts reads as one curve; the paper's best IoU is a line.
 Usage: plot_table3.py [TRAINING_DIR] (default: doc/training of the source tree)"""
 import csv
 import glob
@@ -27,30 +29,67 @@ def dataset_train_frames(manifest):
     return frames * sum(1 for scene in scenes if scene["split"] == "train")
 
 
+PAPER_BEST_IOU = 62.37  # SAR-UNet-L1, Table 3 of the paper [%]
+
+
+def run_stem(model_path):
+    """doc/training stem of the run that wrote model_path (runs/table3_<name>_<size>/best.pt)."""
+    run = os.path.basename(os.path.dirname(model_path))
+    return (run[len("table3_"):] if run.startswith("table3_") else run) + "px"
+
+
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "doc", "training")
     logs = sorted(glob.glob(os.path.join(folder, "*.csv")))
     if not logs:
         sys.exit("plot_table3: no *.csv in " + folder)
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4))
+    runs = {}
     for path in logs:
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
-        name = os.path.splitext(os.path.basename(path))[0]
         with open(os.path.splitext(path)[0] + ".json") as f:
             manifest = json.load(f)
         frames = manifest.get("train_frames") or dataset_train_frames(manifest)
-        epochs = [int(r["epoch"]) * frames / 1e6 for r in rows]
-        axes[0].plot(epochs, [100 * float(r["val_iou"]) for r in rows], marker=".", label=name)
-        axes[1].plot(epochs, [float(r["val_escape_angle_deg"]) for r in rows], marker=".",
-                     label=name)
+        runs[os.path.splitext(os.path.basename(path))[0]] = (rows, manifest, frames)
+
+    def start_of(name, depth=0):
+        """(images seen before the run [millions], its starting point's IoU and angle or None)."""
+        source = runs[name][1].get("initialised_from")
+        if not source or depth > len(runs):
+            return 0.0, None
+        stem = run_stem(source["model"])
+        if stem not in runs:
+            print("plot_table3: " + name + " starts from " + source["model"] +
+                  ", not in " + folder + ": drawn from 0", file=sys.stderr)
+            return 0.0, None
+        rows, _, frames = runs[stem]
+        epoch = int(source["epoch"])
+        row = next(r for r in rows if int(r["epoch"]) == epoch)
+        offset = start_of(stem, depth + 1)[0] + epoch * frames / 1e6
+        return offset, (100 * float(row["val_iou"]), float(row["val_escape_angle_deg"]))
+
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    colours = plt.get_cmap("tab20").colors
+    for index, (name, (rows, manifest, frames)) in enumerate(sorted(runs.items())):
+        offset, start = start_of(name)
+        seen = [offset + int(r["epoch"]) * frames / 1e6 for r in rows]
+        iou = [100 * float(r["val_iou"]) for r in rows]
+        angle = [float(r["val_escape_angle_deg"]) for r in rows]
+        if start:
+            seen, iou, angle = [offset] + seen, [start[0]] + iou, [start[1]] + angle
+        style = dict(marker=".", color=colours[index % len(colours)],
+                     linestyle="--" if start else "-")
+        axes[0].plot(seen, iou, label=name, **style)
+        axes[1].plot(seen, angle, **style)
+    axes[0].axhline(PAPER_BEST_IOU, color="black", linewidth=0.8, linestyle=":",
+                    label="paper's best (62.37 %, 256 px)")
     axes[0].set_ylabel("validation IoU of the occlusion map [%]")
     axes[1].set_ylabel("escape direction: mean angular error [deg]")
     for ax in axes:
-        ax.set_xlabel("training images seen [millions] (a marker per epoch)")
+        ax.set_xlabel("training images seen [millions] (a marker per epoch; dashed: warm restart)")
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8)
+    fig.tight_layout(rect=(0, 0.22, 1, 1))
     out = os.path.join(folder, "iou_per_epoch.png")
     fig.savefig(out, dpi=110)
     print("plot_table3: wrote " + out)
