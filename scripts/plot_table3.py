@@ -70,7 +70,7 @@ def main():
 
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
     colours = plt.get_cmap("tab20").colors
-    for index, (name, (rows, manifest, frames)) in enumerate(sorted(runs.items())):
+    for index, (name, (rows, _, frames)) in enumerate(sorted(runs.items())):
         offset, start = start_of(name)
         seen = [offset + int(r["epoch"]) * frames / 1e6 for r in rows]
         iou = [100 * float(r["val_iou"]) for r in rows]
