@@ -32,51 +32,30 @@ def dataset_train_frames(manifest):
 PAPER_BEST_IOU = 62.37  # SAR-UNet-L1, Table 3 of the paper [%]
 
 
-def run_stem(model_path):
-    """doc/training stem of the run that wrote model_path (runs/table3_<name>_<size>/best.pt)."""
-    run = os.path.basename(os.path.dirname(model_path))
-    return (run[len("table3_"):] if run.startswith("table3_") else run) + "px"
-
-
 def main():
     folder = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "doc", "training")
     logs = sorted(glob.glob(os.path.join(folder, "*.csv")))
     if not logs:
         sys.exit("plot_table3: no *.csv in " + folder)
-    runs = {}
-    for path in logs:
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    colours = plt.get_cmap("tab20").colors
+    for index, path in enumerate(logs):
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
+        name = os.path.splitext(os.path.basename(path))[0]
         with open(os.path.splitext(path)[0] + ".json") as f:
             manifest = json.load(f)
         frames = manifest.get("train_frames") or dataset_train_frames(manifest)
-        runs[os.path.splitext(os.path.basename(path))[0]] = (rows, manifest, frames)
-
-    def start_of(name, depth=0):
-        """(images seen before the run [millions], its starting point's IoU and angle or None)."""
-        source = runs[name][1].get("initialised_from")
-        if not source or depth > len(runs):
-            return 0.0, None
-        stem = run_stem(source["model"])
-        if stem not in runs:
-            print("plot_table3: " + name + " starts from " + source["model"] +
-                  ", not in " + folder + ": drawn from 0", file=sys.stderr)
-            return 0.0, None
-        rows, _, frames = runs[stem]
-        epoch = int(source["epoch"])
-        row = next(r for r in rows if int(r["epoch"]) == epoch)
-        offset = start_of(stem, depth + 1)[0] + epoch * frames / 1e6
-        return offset, (100 * float(row["val_iou"]), float(row["val_escape_angle_deg"]))
-
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
-    colours = plt.get_cmap("tab20").colors
-    for index, (name, (rows, _, frames)) in enumerate(sorted(runs.items())):
-        offset, start = start_of(name)
+        # A warm restart is drawn on from its starting model's epoch (record_run.py's figures).
+        start = manifest.get("initialised_from", {})
+        offset = start.get("images_before", 0) / 1e6
         seen = [offset + int(r["epoch"]) * frames / 1e6 for r in rows]
         iou = [100 * float(r["val_iou"]) for r in rows]
         angle = [float(r["val_escape_angle_deg"]) for r in rows]
-        if start:
-            seen, iou, angle = [offset] + seen, [start[0]] + iou, [start[1]] + angle
+        if "images_before" in start:
+            seen = [offset] + seen
+            iou = [100 * start["validation"]["val_iou"]] + iou
+            angle = [start["validation"]["val_escape_angle_deg"]] + angle
         style = dict(marker=".", color=colours[index % len(colours)],
                      linestyle="--" if start else "-")
         axes[0].plot(seen, iou, label=name, **style)

@@ -41,16 +41,20 @@ def main():
     if "initialised_from" in manifest:
         start = manifest["initialised_from"]
         start["sha256"] = sha256(start["model"])
-        # What the starting weights went through: the epochs up to each best model along the
-        # chain of warm restarts, and the wall time of those runs (from their logs).
-        epochs_before, minutes_before, model = 0, 0.0, start["model"]
+        # What the starting weights went through: the epochs (and training images) up to each
+        # best model along the chain of warm restarts, and the wall time of those runs (from
+        # their logs).
+        epochs_before, images_before, minutes_before = 0, 0, 0.0
+        model = start["model"]
         while model:
             with open(os.path.splitext(model)[0] + ".json") as f:
                 earlier = json.load(f)
             epochs_before += earlier["epoch"]
+            images_before += earlier["epoch"] * earlier["train_frames"]
             minutes_before += sum(float(e["seconds"]) for e in log_of(os.path.dirname(model))) / 60
             model = earlier.get("initialised_from", {}).get("model")
         start["epochs_before"] = epochs_before
+        start["images_before"] = images_before
         start["run"] = {"minutes": minutes_before}
     # The whole run: its length, wall time and speed (the best epoch's figures are "validation").
     manifest["run"] = {
