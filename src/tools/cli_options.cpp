@@ -44,6 +44,7 @@ std::string helpText(const OptionSpec& spec, const nlohmann::json& default_value
   const std::string allowed = spec.allowedText();
   if (!allowed.empty()) help += "; " + allowed;
   if (!spec.unit().empty()) help += " [" + spec.unit() + "]";
+  if (default_value.is_null()) return help;  // an unset optional: its help says what happens
   return help + " (default " + displayValue(default_value) + ")";
 }
 

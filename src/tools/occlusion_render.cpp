@@ -39,7 +39,8 @@ const occlusion_env::OptionTable<Arguments>& argumentTable() {
                OptionSpec("image width and height").unit("px").range(64, 1024))
           .add("azimuth", &Arguments::azimuth_rad,
                OptionSpec("start azimuth (default: drawn from the seed)").unit("rad"))
-          .add("elevation", &Arguments::elevation_rad, OptionSpec("start elevation").unit("rad"))
+          .add("elevation", &Arguments::elevation_rad,
+               OptionSpec("start elevation (default: the environment's)").unit("rad"))
           .add("steps", &Arguments::steps,
                OptionSpec("then take this many steps along --action before writing").atLeast(0))
           .add("action", &Arguments::action, OptionSpec("the step direction DAZ,DEL"))
