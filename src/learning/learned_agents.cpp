@@ -4,6 +4,7 @@
 
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/learning/policy.hpp"
 
 namespace occlusion_env {
@@ -36,7 +37,7 @@ Action NetworkDirectionAgent::act(const Observation& observation, const StepInfo
 }
 
 std::string defaultModelPath() {
-  return std::string(OCCLUSION_ENV_SOURCE_DIR) + "/models/multitask_unet64.pt";
+  return packageShareDirectory() + "/models/multitask_unet64.pt";
 }
 
 AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 
@@ -190,7 +191,7 @@ Action PolicyAgent::act(const Observation& observation, const StepInfo& info) {
 namespace {
 
 std::string shippedPolicyPath(const std::string& name) {
-  return std::string(OCCLUSION_ENV_SOURCE_DIR) + "/models/" + name + ".pt";
+  return packageShareDirectory() + "/models/" + name + ".pt";
 }
 
 AgentEntry policyEntry(const std::string& name, const std::string& summary,

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/eval/progress.hpp"
@@ -291,7 +292,7 @@ int main(int argc, char** argv) {
     };
     learning::trainPpo(cl.ppo, count, factory, ResetOptions{}, cl.run_dir, callbacks);
     bar.finish();
-    const std::string script = std::string(OCCLUSION_ENV_SOURCE_DIR) + "/scripts/plot_ppo.py";
+    const std::string script = packageShareDirectory() + "/scripts/plot_ppo.py";
     if (eval::runProgram({"/usr/bin/python3", script, cl.run_dir}, "", "") != 0) {
       std::cerr << "occlusion_train_ppo: plotting the curves failed (python3-matplotlib?)\n";
     }

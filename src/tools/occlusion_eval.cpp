@@ -24,6 +24,7 @@
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/eval/best.hpp"
 #include "occlusion_env/eval/evaluation.hpp"
@@ -76,8 +77,9 @@ options:
   --best-seed S        seed of the BEST chains (default 20130601)
   --best-samples N     kept MCMC samples per chain (default 10000; 3 chains)
   --no-plots           skip the PNGs
-  --plot-script PATH   default: scripts/plot_evaluation.py of the source tree
-  --source-dir DIR     where config/scenes and scripts are (default: the build's source tree)
+  --plot-script PATH   default: scripts/plot_evaluation.py of --source-dir
+  --source-dir DIR     where config/scenes, models and scripts are (default: the package's share
+                       directory, the source tree in a devel space; doc/INSTALL.md)
   --model PATH         the model of the agents that need one (default: each one's shipped model)
   --report FILE        with --all: also write the evaluation report (EVALUATION.md) to FILE,
                        its links pointing into --out
@@ -99,7 +101,7 @@ struct CommandLine {
   std::string out = "evaluation";
   BestOptions best;
   bool plots = true;
-  std::string source_dir = OCCLUSION_ENV_SOURCE_DIR;
+  std::string source_dir;  // "": the package's share directory (doc/INSTALL.md)
   std::string plot_script;
   std::string report;
   std::string model;
@@ -166,6 +168,7 @@ CommandLine parse(int argc, char** argv) {
         "--all");
   }
   if (!cl.report.empty() && !cl.all) throw InvalidArgumentError("--report needs --all");
+  if (cl.source_dir.empty()) cl.source_dir = packageShareDirectory();
   if (cl.plot_script.empty()) cl.plot_script = cl.source_dir + "/scripts/plot_evaluation.py";
   return cl;
 }

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -246,7 +247,7 @@ int main(int argc, char** argv) {
     };
     const auto history = learning::train(data, options, run_dir, callbacks);
     if (bar) bar->finish();
-    const std::string script = std::string(OCCLUSION_ENV_SOURCE_DIR) + "/scripts/plot_training.py";
+    const std::string script = packageShareDirectory() + "/scripts/plot_training.py";
     const std::string log = (std::filesystem::path(run_dir) / "log.csv").string();
     if (eval::runProgram({"/usr/bin/python3", script, log}, "", "") != 0) {
       std::cerr << "occlusion_train: plotting the curves failed (python3-matplotlib?)\n";
