@@ -7,7 +7,7 @@
 #     object hides another, and prints each episode; then the same with the learned
 #     predicted-escape agent, which sees only the RGB-D image; then that agent once more through
 #     the camera bridge, in front of the simulator standing in for a real camera and robot
-#     (README, "Using a real camera"). roslaunch ends with the agent.
+#     (doc/CAMERA_BRIDGE.md). roslaunch ends with the agent.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH=/usr/bin:/bin:/usr/sbin:/sbin:$PATH

@@ -121,8 +121,8 @@ lines += ["", "Policies' validation: the mean action on 50 validation scenes (Sw
           "tables of the train split, seeds 900000-900049, start azimuth 0, 50 steps at most), "
           "run by `occlusion_agents --agents policy --model <file> --source sweethome3d --category "
           "chair --category table --model-split train --first-seed 900000 --scenes 50`.", ""]
-lines += ["", "The dataset is regenerated with the `occlusion_dataset` command in the README "
-          "(\"The oracle, the model split and training data\")."]
+lines += ["", "The dataset is regenerated with the `occlusion_dataset` command in doc/TRAINING.md "
+          "(\"Training data\")."]
 open(os.path.join(models, "MANIFEST.md"), "w").write("\n".join(lines) + "\n")
 PY
 echo "ship_model: models/$name.pt and models/MANIFEST.md written"

@@ -6,7 +6,7 @@
 # EVALUATION.md's Table 3. Runs resume: re-run the same command after an interruption.
 #
 # Usage: scripts/train_table3.sh [DATA_DIR] [RUNS_DIR]
-#   DATA_DIR  default data/train_sweethome3d (made by the occlusion_dataset command in the README)
+#   DATA_DIR  default data/train_sweethome3d (made by the occlusion_dataset command in doc/TRAINING.md)
 #   RUNS_DIR  default runs (checkpoints and logs; not in git)
 # Environment: SIZE (network input [px], default 64), EPOCHS (default 10), JOBS (variants trained
 # at once, default 1; each uses one thread), VARIANTS (default all five, space-separated names),
@@ -36,7 +36,7 @@ variants="${VARIANTS:-unet r_unet sr_unet sar_unet sar_unet-L1}"
   { echo "train_table3: INIT_FROM needs one variant (VARIANTS=...)" >&2; exit 1; }
 trainer="$root/.build_ws/devel/lib/occlusion_env/occlusion_train"
 [[ -x "$trainer" ]] || { echo "train_table3: $trainer not built (make build)" >&2; exit 1; }
-[[ -d "$data" ]] || { echo "train_table3: no dataset at $data (see the README)" >&2; exit 1; }
+[[ -d "$data" ]] || { echo "train_table3: no dataset at $data (see doc/TRAINING.md, "Training data")" >&2; exit 1; }
 mkdir -p "$runs" "$root/doc/training"
 # From the source tree, with paths relative to it (as the manifests record them).
 data="$(realpath --relative-to="$root" "$data")"
