@@ -114,6 +114,8 @@ void trimCsv(const fs::path& path, const std::string& header, std::int64_t last)
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+// One row per finished training episode (not the evaluation's EpisodeRecord schema).
+constexpr const char* kEpisodesCsv = "training_episodes.csv";
 constexpr const char* kEpisodeHeader = "episode,env_steps,environment,seed,reward,steps,success";
 constexpr const char* kUpdateHeader =
     "update,env_steps,episodes,action_std,policy_loss,value_loss,entropy,approx_kl,"
@@ -470,7 +472,7 @@ class PpoTrainer {
   }
 
   void appendEpisode(const PpoEpisode& e) {
-    std::ofstream out(fs::path(run_dir_) / "episodes.csv", std::ios::app);
+    std::ofstream out(fs::path(run_dir_) / kEpisodesCsv, std::ios::app);
     out << e.index << ',' << e.env_steps << ',' << e.environment << ',' << e.seed << ',' << e.reward
         << ',' << e.steps << ',' << (e.success ? 1 : 0) << '\n';
   }
@@ -518,7 +520,7 @@ class PpoTrainer {
   void resume() {
     const fs::path dir(run_dir_);
     if (!fs::exists(dir / "checkpoint.pt") || !fs::exists(dir / "checkpoint.json")) {
-      trimCsv(dir / "episodes.csv", kEpisodeHeader, 0);
+      trimCsv(dir / kEpisodesCsv, kEpisodeHeader, 0);
       trimCsv(dir / "updates.csv", kUpdateHeader, 0);
       return;
     }
@@ -547,7 +549,7 @@ class PpoTrainer {
     progress_.episodes = state.at("episodes").get<std::int64_t>();
     std::istringstream random(state.at("random").get<std::string>());
     random >> progress_.random;
-    trimCsv(dir / "episodes.csv", kEpisodeHeader, progress_.episodes);
+    trimCsv(dir / kEpisodesCsv, kEpisodeHeader, progress_.episodes);
     trimCsv(dir / "updates.csv", kUpdateHeader, progress_.updates);
   }
 

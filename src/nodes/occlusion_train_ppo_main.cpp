@@ -29,7 +29,7 @@ constexpr const char* kUsage = R"(Usage: occlusion_train_ppo --out RUN_DIR [opti
 Trains a PPO policy (actor and critic on the pretrained multi-task network's encoder) on training
 scenes (seeds drawn below 900,000: validation scenes are 900,000-999,999 and test scenes from
 1,000,000; models of the train split). Every update goes to RUN_DIR/updates.csv,
-every episode to RUN_DIR/episodes.csv; checkpoints every few updates (re-run the same command to
+every episode to RUN_DIR/training_episodes.csv; checkpoints every few updates (re-run the same command to
 resume); RUN_DIR/policy.pt (+ .json) is the final policy (agent `policy`, ~model_path).
 
 Environments:

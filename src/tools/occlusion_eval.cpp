@@ -689,7 +689,7 @@ std::string policySection(const CommandLine& cl) {
         "azimuths). Validation: the mean action on 50 validation scenes (Sweet Home 3D chairs "
         "and tables of the train split, seeds 900000-900049, start azimuth 0). Training curves "
         "(the paper's Figure 3): [doc/images/ppo_training.png](doc/images/ppo_training.png), "
-        "made by `scripts/plot_ppo.py` from the runs' `episodes.csv`.\n\n"
+        "made by `scripts/plot_ppo.py` from the runs' `training_episodes.csv`.\n\n"
      << "| Policy | Reward | Actor start | Rig inputs | Env steps | Training end: steps | "
         "success | Validation: steps | success |\n|---|---|---|---|---:|---:|---:|---:|---:|\n";
   for (const nlohmann::json& m : policies) {
