@@ -3,7 +3,7 @@
 pairwise mean difference (the paper's Figure A1 style) and the start-azimuth sweep (Figure 5; a
 sweep over several models gets one panel per model, named from the <sweep>_models.csv beside it).
 
-Usage: plot_evaluation.py --out DIR [--prefix P] [--episodes episodes.csv] [--posterior best_mu_samples.csv
+Usage: plot_evaluation.py --out DIR [--prefix P] [--episodes SET_episodes.csv] [--posterior best_mu_samples.csv
        --comparisons best_pairs.csv] [--sweep sweep_two_chairs.csv ...]
 Needs python3-matplotlib (scripts/install_deps.sh).
 """

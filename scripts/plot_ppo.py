@@ -2,7 +2,7 @@
 """The paper's Figure 3 for PPO runs: rolling reward and steps per episode over training.
 
 Usage: plot_ppo.py RUN_DIR [RUN_DIR ...] [--out PNG] [--window N]
-Reads each RUN_DIR/episodes.csv (occlusion_train_ppo). With one run and no --out the figure is
+Reads each RUN_DIR/training_episodes.csv (occlusion_train_ppo). With one run and no --out the figure is
 RUN_DIR/curves.png; several runs (e.g. union and intersection) share one figure, one line each.
 """
 import argparse
@@ -34,7 +34,7 @@ def main():
     args = parser.parse_args()
     figure, (reward_axis, steps_axis) = plt.subplots(1, 2, figsize=(11, 4))
     for run in args.runs:
-        path = os.path.join(run, "episodes.csv")
+        path = os.path.join(run, "training_episodes.csv")
         with open(path) as f:
             rows = list(csv.DictReader(f))
         if not rows:

@@ -40,7 +40,7 @@ if "dataset" in manifest:
     dataset_json = os.path.join(root, manifest["dataset"], "dataset.json")
     manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
 if manifest.get("kind") == "ppo_policy":
-    episodes = list(csv.DictReader(open(os.path.join(run, "episodes.csv"))))[-500:]
+    episodes = list(csv.DictReader(open(os.path.join(run, "training_episodes.csv"))))[-500:]
     manifest["training_end"] = {
         "episodes": len(episodes),
         "mean_steps": sum(float(e["steps"]) for e in episodes) / len(episodes),

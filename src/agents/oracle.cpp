@@ -103,30 +103,16 @@ std::int64_t OcclusionOracle::occlusionAtLattice(const LatticeIndex& index) {
   return pixels;
 }
 
-OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
-  if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
-  renders_ = 0;
-  OracleAnswer answer;
-  const double threshold =
-      static_cast<double>(environment_.options().reward.success_threshold_pixels);
-  const auto solved = [threshold](std::int64_t pixels) { return pixels <= threshold; };
-  if (solved(occlusionAt(pose))) {
-    answer.steps = 0;
-    answer.target = pose;
-    answer.poses_rendered = renders_;
-    return answer;
-  }
-  if (!anchored_) {
-    anchor_ = pose;
-    anchored_ = true;
-  }
-  const double limit = environment_.camera().elevationLimit();
-  const double elevation_low = -limit - pose.elevation_rad;  // allowed offsets of the path
-  const double elevation_high = limit - pose.elevation_rad;
+bool OcclusionOracle::solved(std::int64_t pixels) const {
+  return pixels <= static_cast<double>(environment_.options().reward.success_threshold_pixels);
+}
 
-  // The nearest unoccluded lattice pose: lattice points in order of their distance from `pose`.
-  // Points in Chebyshev ring r around the nearest lattice point lie at least (r - 0.5) s away, so
-  // once ring r is queued every point nearer than (r + 0.5) s is known.
+std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
+    const SphericalPose& pose) {
+  // Lattice points in order of their distance from `pose`. Points in Chebyshev ring r around the
+  // nearest lattice point lie at least (r - 0.5) s away, so once ring r is queued every point
+  // nearer than (r + 0.5) s is known.
+  const double limit = environment_.camera().elevationLimit();
   const double offset_azimuth = wrapAngle(pose.azimuth_rad - anchor_.azimuth_rad) / spacing_rad_;
   const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
   const int center_a = static_cast<int>(std::lround(offset_azimuth));
@@ -146,9 +132,7 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
     const double distance = offsetOf(index).norm();
     if (distance > 0.0 && distance <= max_distance + 1e-12) queue.push({distance, index});
   };
-  bool found = false;
-  Eigen::Vector2d target_offset = Eigen::Vector2d::Zero();
-  for (int ring = 0; ring <= max_ring && !found; ++ring) {
+  for (int ring = 0; ring <= max_ring; ++ring) {
     if (ring == 0) {
       push(center_a, center_e);
     } else {
@@ -166,37 +150,62 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
     while (!queue.empty() && queue.top().first <= known) {
       const LatticeIndex index = queue.top().second;
       queue.pop();
-      if (solved(occlusionAtLattice(index))) {
-        found = true;
-        target_offset = offsetOf(index);
-        break;
-      }
+      if (solved(occlusionAtLattice(index))) return offsetOf(index);
     }
   }
+  return std::nullopt;
+}
+
+std::optional<Action> OcclusionOracle::unoccludingStep(const SphericalPose& pose,
+                                                       double elevation_low,
+                                                       double elevation_high) {
+  for (int k = 0; k < options_.circle_directions; ++k) {
+    const double direction = 2.0 * M_PI * k / options_.circle_directions;
+    const Action step = move(direction, step_rad_);
+    if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
+    const SphericalPose there{pose.azimuth_rad + step.d_azimuth_rad,
+                              pose.elevation_rad + step.d_elevation_rad};
+    if (solved(occlusionAt(there))) return step;
+  }
+  return std::nullopt;
+}
+
+OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
+  if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
+  renders_ = 0;
+  OracleAnswer answer;
+  if (solved(occlusionAt(pose))) {
+    answer.steps = 0;
+    answer.target = pose;
+    answer.poses_rendered = renders_;
+    return answer;
+  }
+  if (!anchored_) {
+    anchor_ = pose;
+    anchored_ = true;
+  }
+  const double limit = environment_.camera().elevationLimit();
+  const double elevation_low = -limit - pose.elevation_rad;  // allowed offsets of the path
+  const double elevation_high = limit - pose.elevation_rad;
+  const std::optional<Eigen::Vector2d> target_offset = nearestUnoccludedLatticeOffset(pose);
   // One step lands exactly on the circle of radius h: worth a look when the lattice's answer is
   // at most two steps.
-  if (!found || stepsFor(target_offset.norm(), step_rad_) <= 2) {
-    for (int k = 0; k < options_.circle_directions; ++k) {
-      const double direction = 2.0 * M_PI * k / options_.circle_directions;
-      const Action step = move(direction, step_rad_);
-      if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
-      const SphericalPose there{pose.azimuth_rad + step.d_azimuth_rad,
-                                pose.elevation_rad + step.d_elevation_rad};
-      if (solved(occlusionAt(there))) {
-        answer.steps = 1;
-        answer.path = {step};
-        answer.target = there;
-        answer.poses_rendered = renders_;
-        return answer;
-      }
+  if (!target_offset || stepsFor(target_offset->norm(), step_rad_) <= 2) {
+    if (const std::optional<Action> step = unoccludingStep(pose, elevation_low, elevation_high)) {
+      answer.steps = 1;
+      answer.path = {*step};
+      answer.target = {pose.azimuth_rad + step->d_azimuth_rad,
+                       pose.elevation_rad + step->d_elevation_rad};
+      answer.poses_rendered = renders_;
+      return answer;
     }
   }
-  if (found) {
-    answer.steps = stepsFor(target_offset.norm(), step_rad_);
+  if (target_offset) {
+    answer.steps = stepsFor(target_offset->norm(), step_rad_);
     if (answer.steps <= options_.max_steps) {
-      answer.path = pathTo(target_offset, answer.steps, step_rad_, elevation_low, elevation_high);
-      answer.target = {pose.azimuth_rad + target_offset.x(),
-                       pose.elevation_rad + target_offset.y()};
+      answer.path = pathTo(*target_offset, answer.steps, step_rad_, elevation_low, elevation_high);
+      answer.target = {pose.azimuth_rad + target_offset->x(),
+                       pose.elevation_rad + target_offset->y()};
     } else {
       answer.steps = -1;
     }

@@ -301,16 +301,12 @@ void DatasetOptions::validate() const {
   }
 }
 
-GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
-                                 const ProgressCallback& progress) {
-  options.validate();
-  const auto start = std::chrono::steady_clock::now();
-  EnvironmentOptions environment_options = environmentOptionsOf(options.definingJson());
-  environment_options.validate();
-  auto library = std::make_shared<ObjectLibrary>(makeCatalog(environment_options.catalog),
-                                                 environment_options.lod_triangle_budget);
-  const nlohmann::json manifest = manifestFor(options, library->catalog());
-  const fs::path manifest_path = fs::path(dir) / kManifestFile;
+namespace {
+
+// Throws InvalidArgumentError unless `dir` is new, empty or a dataset made with `options` (its
+// manifest at `manifest_path`), which is then resumed.
+void requireResumable(const std::string& dir, const fs::path& manifest_path,
+                      const DatasetOptions& options) {
   if (fs::exists(manifest_path)) {
     std::ifstream in(manifest_path);
     nlohmann::json existing;
@@ -337,6 +333,87 @@ GenerationReport generateDataset(const std::string& dir, const DatasetOptions& o
   } else if (fs::exists(dir) && !fs::is_empty(dir)) {
     throw InvalidArgumentError(dir + " exists and holds no dataset: choose an empty or new folder");
   }
+}
+
+// Checks one stored frame against a fresh render of its pose and fresh labels (the worker's
+// environment holds the frame's scene); each difference is a problem of `report`.
+void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, const Frame& frame,
+                AuditReport& report) {
+  const auto problem = [&report, &frame](const std::string& what) {
+    ++report.failures;
+    if (report.problems.size() < 50) {
+      report.problems.push_back("scene " + idName(frame.scene_index) + " image " +
+                                idName(frame.labels.image_id) + ": " + what);
+    }
+  };
+  ++report.frames_checked;
+  const FrameLabels& stored = frame.labels;
+  const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
+  const std::string folder = sceneFolder(dir, frame.scene_index);
+  const std::string name = idName(stored.image_id);
+  if (cv::norm(data.readRgb(frame), buffers.rgb, cv::NORM_INF) != 0.0) problem("rgb differs");
+  const cv::Mat depth = data.readDepthMeters(frame);
+  double worst_depth = 0.0;
+  bool holes_match = true;
+  for (int row = 0; row < depth.rows; ++row) {
+    for (int col = 0; col < depth.cols; ++col) {
+      const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
+      if (std::isnan(a) != std::isnan(b)) holes_match = false;
+      if (!std::isnan(a) && !std::isnan(b))
+        worst_depth = std::max(worst_depth, std::abs(double(a) - b));
+    }
+  }
+  if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
+    problem("depth differs (worst " + std::to_string(worst_depth) + " m)");
+  }
+  for (int object = 0; object < worker.environment.numObjects(); ++object) {
+    const cv::Mat amodal =
+        cv::imread(folder + "/mask/" + name + "_" + idName(object) + ".png", cv::IMREAD_GRAYSCALE);
+    const cv::Mat expected = (buffers.amodal_bits & (1 << object)) != 0;
+    if (amodal.empty() || cv::norm(amodal, expected, cv::NORM_INF) != 0.0) {
+      problem("amodal mask of object " + std::to_string(object) + " differs");
+    }
+  }
+  cv::Mat occlusion;
+  FrameLabels labels = viewLabels(worker, buffers, stored.pose, stored.image_id, occlusion);
+  if (cv::norm(data.readOcclusionMask(frame), occlusion, cv::NORM_INF) != 0.0) {
+    problem("occlusion mask differs");
+  }
+  if (labels.occlusion_px != stored.occlusion_px) problem("occlusion_px differs");
+  const auto close = [](double a, double b) {
+    return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(b));
+  };
+  if (!close(labels.smooth_loss_px, stored.smooth_loss_px) ||
+      !close(labels.gradient_azimuth, stored.gradient_azimuth) ||
+      !close(labels.gradient_elevation, stored.gradient_elevation) ||
+      labels.gradient_valid != stored.gradient_valid) {
+    problem("gradient label differs");
+  }
+  if (stored.has_oracle) {
+    addOracleLabels(worker, labels);
+    const bool same_escape =
+        labels.escape.has_value() == stored.escape.has_value() &&
+        (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
+    if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
+      problem("oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
+              std::to_string(stored.oracle_steps) + " steps)");
+    }
+  }
+}
+
+}  // namespace
+
+GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
+                                 const ProgressCallback& progress) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  EnvironmentOptions environment_options = environmentOptionsOf(options.definingJson());
+  environment_options.validate();
+  auto library = std::make_shared<ObjectLibrary>(makeCatalog(environment_options.catalog),
+                                                 environment_options.lod_triangle_budget);
+  const nlohmann::json manifest = manifestFor(options, library->catalog());
+  const fs::path manifest_path = fs::path(dir) / kManifestFile;
+  requireResumable(dir, manifest_path, options);
   fs::create_directories(fs::path(dir) / kSplitFolder);
   writeJsonFile(manifest_path, manifest);
 
@@ -407,72 +484,10 @@ AuditReport auditDataset(const std::string& dir, int samples, std::uint64_t seed
   const EnvironmentOptions options = environmentOptionsOf(defining);
   Worker worker(options, nullptr);
   AuditReport report;
-  const auto problem = [&report](const Frame& frame, const std::string& what) {
-    ++report.failures;
-    if (report.problems.size() < 50) {
-      report.problems.push_back("scene " + idName(frame.scene_index) + " image " +
-                                idName(frame.labels.image_id) + ": " + what);
-    }
-  };
   for (const auto& [scene, frames] : by_scene) {
     const StepResult start = worker.environment.reset(frames.front()->scene_seed);
     worker.oracle.clear(start.info.pose);
-    for (const Frame* frame : frames) {
-      ++report.frames_checked;
-      const FrameLabels& stored = frame->labels;
-      const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
-      const std::string folder = sceneFolder(dir, frame->scene_index);
-      const std::string name = idName(stored.image_id);
-      if (cv::norm(data.readRgb(*frame), buffers.rgb, cv::NORM_INF) != 0.0)
-        problem(*frame, "rgb differs");
-      const cv::Mat depth = data.readDepthMeters(*frame);
-      double worst_depth = 0.0;
-      bool holes_match = true;
-      for (int row = 0; row < depth.rows; ++row) {
-        for (int col = 0; col < depth.cols; ++col) {
-          const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
-          if (std::isnan(a) != std::isnan(b)) holes_match = false;
-          if (!std::isnan(a) && !std::isnan(b))
-            worst_depth = std::max(worst_depth, std::abs(double(a) - b));
-        }
-      }
-      if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
-        problem(*frame, "depth differs (worst " + std::to_string(worst_depth) + " m)");
-      }
-      for (int object = 0; object < worker.environment.numObjects(); ++object) {
-        const cv::Mat amodal = cv::imread(folder + "/mask/" + name + "_" + idName(object) + ".png",
-                                          cv::IMREAD_GRAYSCALE);
-        const cv::Mat expected = (buffers.amodal_bits & (1 << object)) != 0;
-        if (amodal.empty() || cv::norm(amodal, expected, cv::NORM_INF) != 0.0) {
-          problem(*frame, "amodal mask of object " + std::to_string(object) + " differs");
-        }
-      }
-      cv::Mat occlusion;
-      FrameLabels labels = viewLabels(worker, buffers, stored.pose, stored.image_id, occlusion);
-      if (cv::norm(data.readOcclusionMask(*frame), occlusion, cv::NORM_INF) != 0.0) {
-        problem(*frame, "occlusion mask differs");
-      }
-      if (labels.occlusion_px != stored.occlusion_px) problem(*frame, "occlusion_px differs");
-      const auto close = [](double a, double b) {
-        return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(b));
-      };
-      if (!close(labels.smooth_loss_px, stored.smooth_loss_px) ||
-          !close(labels.gradient_azimuth, stored.gradient_azimuth) ||
-          !close(labels.gradient_elevation, stored.gradient_elevation) ||
-          labels.gradient_valid != stored.gradient_valid) {
-        problem(*frame, "gradient label differs");
-      }
-      if (stored.has_oracle) {
-        addOracleLabels(worker, labels);
-        const bool same_escape =
-            labels.escape.has_value() == stored.escape.has_value() &&
-            (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
-        if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
-          problem(*frame, "oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
-                              std::to_string(stored.oracle_steps) + " steps)");
-        }
-      }
-    }
+    for (const Frame* frame : frames) auditFrame(worker, data, dir, *frame, report);
   }
   return report;
 }

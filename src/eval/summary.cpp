@@ -161,18 +161,17 @@ std::optional<PaperPairFigures> paperPairFigures(const std::string& first,
   return found->second;
 }
 
-std::string renderSummaryMarkdown(const std::string& title, const std::string& preamble,
-                                  const std::vector<AgentSummary>& agents,
-                                  const std::vector<PairComparison>& comparisons) {
-  std::map<std::string, std::string> paper_labels;
-  for (const auto& agent : agents) paper_labels[agent.agent] = agent.paper_label;
-  const auto label = [&paper_labels](const std::string& agent) {
-    return agentLabel(agent, paper_labels[agent]);
-  };
-  std::ostringstream md;
-  md << "# " << title << "\n\n";
-  if (!preamble.empty()) md << preamble << "\n\n";
+namespace {
 
+// An agent's row label: its name, with the paper's label where it has one (`paper_labels` maps
+// the names to the labels).
+std::string rowLabel(std::map<std::string, std::string>& paper_labels, const std::string& agent) {
+  return agentLabel(agent, paper_labels[agent]);
+}
+
+// The Table 4 section: one row per agent.
+void writeAgentTable(std::ostream& md, const std::vector<AgentSummary>& agents,
+                     std::map<std::string, std::string>& paper_labels) {
   md << "## Steps to an unoccluded view (Table 4 layout)\n\n"
      << "Failed episodes (no unoccluded view within the step limit) are counted with the step "
         "limit. Paper: Table 4 of Szemenyei & Szanto 2023 (50 scenes of 3 random ShapeNet objects, "
@@ -194,9 +193,9 @@ std::string renderSummaryMarkdown(const std::string& title, const std::string& p
   for (const auto& agent : agents) {
     const auto paper = paperAgentFigures(agent.paper_label);
     const int failed = agent.episodes - agent.successes;
-    md << "| " << label(agent.agent) << " | " << agent.episodes << " | " << agent.successes << " | "
-       << fixed(100.0 * agent.successes / agent.episodes, 1) << " % | " << failed << " ("
-       << agent.max_steps << ") | " << fixed(agent.mean_steps, 1) << " | "
+    md << "| " << rowLabel(paper_labels, agent.agent) << " | " << agent.episodes << " | "
+       << agent.successes << " | " << fixed(100.0 * agent.successes / agent.episodes, 1) << " % | "
+       << failed << " (" << agent.max_steps << ") | " << fixed(agent.mean_steps, 1) << " | "
        << fixed(agent.sd_steps, 1) << " | "
        << (with_reference
                ? (agent.competes ? fixed(agent.mean_steps_above_reference, 1) : "(floor)") + " | "
@@ -205,49 +204,65 @@ std::string renderSummaryMarkdown(const std::string& title, const std::string& p
        << (paper ? fixed(paper->sd_steps, 1) : "-") << " | " << fixed(agent.mean_wall_time_s, 3)
        << " |\n";
   }
+}
 
-  if (!comparisons.empty()) {
-    md << "\n## Paired Bayesian estimation (BEST; Table 5 layout)\n\n"
-       << "Kruschke's BEST on the paired differences of counted steps, Baseline - Method, per "
-          "scene: mu is the mean difference, mu > 0 means the Method needs fewer steps. "
-          "Confidence = P(mu > 0) in percent; HDI = 95% highest-density interval; effect size = "
-          "mu / sigma. The t likelihood is robust: with heavy tails (small nu) mu follows the bulk "
-          "of "
-          "the differences and can differ from the sample mean difference, shown beside it. "
-          "Paper figures where the paper has the pair.\n\n";
-    md << "| Baseline | Method | Pairs | HDI low | HDI high | Diff of means | Confidence [%] | "
-          "Effect size | Effect size HDI | nu (median) | Sample mean diff | Paper: HDI, diff, "
-          "confidence |\n"
-       << "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---|\n";
-    for (const auto& pair : comparisons) {
-      const auto& best = pair.best;
-      const auto paper = paperPairFigures(paper_labels[pair.first], paper_labels[pair.second]);
-      const std::string paper_text = paper ? "[" + fixed(paper->hdi_low, 2) + ", " +
-                                                 fixed(paper->hdi_high, 2) + "], " +
-                                                 fixed(paper->difference_of_means, 2) + ", " +
-                                                 fixed(paper->confidence_percent, 2) + " %"
-                                           : "-";
-      md << "| " << label(pair.first) << " | " << label(pair.second) << " | " << best.pairs
-         << " | ";
-      if (best.no_variation) {
-        md << "- | - | " << fixed(best.sample_mean, 2) << " | - | - | - | - | "
-           << fixed(best.sample_mean, 2) << " | " << paper_text << " |\n";
-        continue;
-      }
-      md << fixed(best.mu_hdi.low, 2) << " | " << fixed(best.mu_hdi.high, 2) << " | "
-         << fixed(best.mu_mean, 2) << " | " << fixed(100.0 * best.probability_mu_positive, 2)
-         << " | " << fixed(best.effect_size_mean, 2) << " | [" << fixed(best.effect_size_hdi.low, 2)
-         << ", " << fixed(best.effect_size_hdi.high, 2) << "] | " << fixed(best.nu_median, 1)
-         << " | " << fixed(best.sample_mean, 2) << " | " << paper_text << " |\n";
+// The Table 5 section: one row per pair, then a note for each pair BEST skipped.
+void writeComparisonTable(std::ostream& md, const std::vector<PairComparison>& comparisons,
+                          std::map<std::string, std::string>& paper_labels) {
+  md << "\n## Paired Bayesian estimation (BEST; Table 5 layout)\n\n"
+     << "Kruschke's BEST on the paired differences of counted steps, Baseline - Method, per "
+        "scene: mu is the mean difference, mu > 0 means the Method needs fewer steps. "
+        "Confidence = P(mu > 0) in percent; HDI = 95% highest-density interval; effect size = "
+        "mu / sigma. The t likelihood is robust: with heavy tails (small nu) mu follows the bulk "
+        "of "
+        "the differences and can differ from the sample mean difference, shown beside it. "
+        "Paper figures where the paper has the pair.\n\n";
+  md << "| Baseline | Method | Pairs | HDI low | HDI high | Diff of means | Confidence [%] | "
+        "Effect size | Effect size HDI | nu (median) | Sample mean diff | Paper: HDI, diff, "
+        "confidence |\n"
+     << "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---|\n";
+  for (const auto& pair : comparisons) {
+    const auto& best = pair.best;
+    const auto paper = paperPairFigures(paper_labels[pair.first], paper_labels[pair.second]);
+    const std::string paper_text = paper ? "[" + fixed(paper->hdi_low, 2) + ", " +
+                                               fixed(paper->hdi_high, 2) + "], " +
+                                               fixed(paper->difference_of_means, 2) + ", " +
+                                               fixed(paper->confidence_percent, 2) + " %"
+                                         : "-";
+    md << "| " << rowLabel(paper_labels, pair.first) << " | " << rowLabel(paper_labels, pair.second)
+       << " | " << best.pairs << " | ";
+    if (best.no_variation) {
+      md << "- | - | " << fixed(best.sample_mean, 2) << " | - | - | - | - | "
+         << fixed(best.sample_mean, 2) << " | " << paper_text << " |\n";
+      continue;
     }
-    for (const auto& pair : comparisons) {
-      if (pair.best.no_variation) {
-        md << "\n"
-           << pair.first << " vs " << pair.second << ": " << pair.best.note
-           << " (BEST skipped: the model needs sd > 0).\n";
-      }
+    md << fixed(best.mu_hdi.low, 2) << " | " << fixed(best.mu_hdi.high, 2) << " | "
+       << fixed(best.mu_mean, 2) << " | " << fixed(100.0 * best.probability_mu_positive, 2) << " | "
+       << fixed(best.effect_size_mean, 2) << " | [" << fixed(best.effect_size_hdi.low, 2) << ", "
+       << fixed(best.effect_size_hdi.high, 2) << "] | " << fixed(best.nu_median, 1) << " | "
+       << fixed(best.sample_mean, 2) << " | " << paper_text << " |\n";
+  }
+  for (const auto& pair : comparisons) {
+    if (pair.best.no_variation) {
+      md << "\n"
+         << pair.first << " vs " << pair.second << ": " << pair.best.note
+         << " (BEST skipped: the model needs sd > 0).\n";
     }
   }
+}
+
+}  // namespace
+
+std::string renderSummaryMarkdown(const std::string& title, const std::string& preamble,
+                                  const std::vector<AgentSummary>& agents,
+                                  const std::vector<PairComparison>& comparisons) {
+  std::map<std::string, std::string> paper_labels;
+  for (const auto& agent : agents) paper_labels[agent.agent] = agent.paper_label;
+  std::ostringstream md;
+  md << "# " << title << "\n\n";
+  if (!preamble.empty()) md << preamble << "\n\n";
+  writeAgentTable(md, agents, paper_labels);
+  if (!comparisons.empty()) writeComparisonTable(md, comparisons, paper_labels);
   return md.str();
 }
 

@@ -114,6 +114,8 @@ void trimCsv(const fs::path& path, const std::string& header, std::int64_t last)
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+// One row per finished training episode (not the evaluation's EpisodeRecord schema).
+constexpr const char* kEpisodesCsv = "training_episodes.csv";
 constexpr const char* kEpisodeHeader = "episode,env_steps,environment,seed,reward,steps,success";
 constexpr const char* kUpdateHeader =
     "update,env_steps,episodes,action_std,policy_loss,value_loss,entropy,approx_kl,"
@@ -348,29 +350,87 @@ class PpoTrainer {
     return next_features;
   }
 
-  PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
-                     double std) {
-    // GAE over each environment's time line.
-    const int rows = steps_per_env * count_;
-    torch::Tensor advantages = torch::zeros({rows});
-    {
-      auto values = rollout.values.accessor<float, 1>();
-      auto rewards = rollout.rewards.accessor<float, 1>();
-      auto dones = rollout.dones.accessor<float, 1>();
-      auto last = last_values.accessor<float, 1>();
-      auto out = advantages.accessor<float, 1>();
-      for (int i = 0; i < count_; ++i) {
-        double gae = 0.0;
-        for (int t = steps_per_env - 1; t >= 0; --t) {
-          const int row = t * count_ + i;
-          const double next_value =
-              dones[row] > 0.5f ? 0.0 : (t + 1 < steps_per_env ? values[row + count_] : last[i]);
-          const double delta = rewards[row] + options_.gamma * next_value - values[row];
-          gae = delta + (dones[row] > 0.5f ? 0.0 : options_.gamma * options_.gae_lambda * gae);
-          out[row] = static_cast<float>(gae);
-        }
+  // Generalised advantage estimates over each environment's time line of the rollout.
+  torch::Tensor advantagesOf(const Rollout& rollout, const torch::Tensor& last_values,
+                             int steps_per_env) const {
+    torch::Tensor advantages = torch::zeros({steps_per_env * count_});
+    auto values = rollout.values.accessor<float, 1>();
+    auto rewards = rollout.rewards.accessor<float, 1>();
+    auto dones = rollout.dones.accessor<float, 1>();
+    auto last = last_values.accessor<float, 1>();
+    auto out = advantages.accessor<float, 1>();
+    for (int i = 0; i < count_; ++i) {
+      double gae = 0.0;
+      for (int t = steps_per_env - 1; t >= 0; --t) {
+        const int row = t * count_ + i;
+        const double next_value =
+            dones[row] > 0.5f ? 0.0 : (t + 1 < steps_per_env ? values[row + count_] : last[i]);
+        const double delta = rewards[row] + options_.gamma * next_value - values[row];
+        gae = delta + (dones[row] > 0.5f ? 0.0 : options_.gamma * options_.gae_lambda * gae);
+        out[row] = static_cast<float>(gae);
       }
     }
+    return advantages;
+  }
+
+  // What one minibatch's step reports: the approximate KL, the fraction clipped, the losses.
+  struct MinibatchFigures {
+    double kl = 0.0, clip_fraction = 0.0, policy_loss = 0.0, value_loss = 0.0;
+  };
+
+  // One gradient step of actor, critic (and backbone when fine-tuned) on the rows `index`.
+  MinibatchFigures optimiseMinibatch(Rollout& rollout, const torch::Tensor& advantages,
+                                     const torch::Tensor& returns, const torch::Tensor& index,
+                                     double std, double entropy) {
+    const torch::Tensor features = options_.fine_tune
+                                       ? policy_->features(rollout.inputs.index_select(0, index))
+                                       : rollout.features.index_select(0, index);
+    const torch::Tensor rig = rollout.rig.index_select(0, index);
+    const torch::Tensor mean = policy_->actionMean(features, rig);
+    const torch::Tensor log_ratio =
+        gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
+        rollout.log_probs.index_select(0, index);
+    const torch::Tensor ratio = log_ratio.exp();
+    const torch::Tensor advantage = advantages.index_select(0, index);
+    const torch::Tensor surrogate = torch::min(
+        ratio * advantage,
+        ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
+    const torch::Tensor policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
+    const torch::Tensor value_error =
+        policy_->value(features, rig) - returns.index_select(0, index);
+    const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
+
+    actor_optimizer_->zero_grad();
+    critic_optimizer_->zero_grad();
+    if (backbone_optimizer_) backbone_optimizer_->zero_grad();
+    (policy_loss + value_loss).backward();
+    if (options_.max_grad_norm > 0) {
+      torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
+      torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
+      if (backbone_optimizer_) {
+        torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
+                                          options_.max_grad_norm);
+      }
+    }
+    actor_optimizer_->step();
+    critic_optimizer_->step();
+    if (backbone_optimizer_) backbone_optimizer_->step();
+
+    torch::NoGradGuard no_grad;
+    MinibatchFigures figures;
+    figures.kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
+    figures.clip_fraction =
+        ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
+    figures.policy_loss = policy_loss.item<double>();
+    figures.value_loss = value_loss.item<double>();
+    return figures;
+  }
+
+  // PPO's epochs over the rollout in shuffled minibatches (stopped early past 1.5 target_kl).
+  PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
+                     double std) {
+    const int rows = steps_per_env * count_;
+    torch::Tensor advantages = advantagesOf(rollout, last_values, steps_per_env);
     const torch::Tensor returns = advantages + rollout.values;
     if (options_.normalize_advantages) {
       advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
@@ -381,7 +441,7 @@ class PpoTrainer {
     std::vector<int64_t> order(rows);
     std::iota(order.begin(), order.end(), 0);
     const int minibatch = std::min(options_.minibatch_size, rows);
-    double kl_sum = 0.0, clip_sum = 0.0, policy_sum = 0.0, value_sum = 0.0;
+    MinibatchFigures sum;
     int batches = 0;
     for (int epoch = 0; epoch < options_.epochs; ++epoch) {
       std::shuffle(order.begin(), order.end(), progress_.random);
@@ -390,50 +450,14 @@ class PpoTrainer {
       for (int first = 0; first + minibatch <= rows; first += minibatch) {
         const torch::Tensor index =
             torch::from_blob(order.data() + first, {minibatch}, torch::kLong).clone();
-        const torch::Tensor features =
-            options_.fine_tune ? policy_->features(rollout.inputs.index_select(0, index))
-                               : rollout.features.index_select(0, index);
-        const torch::Tensor rig = rollout.rig.index_select(0, index);
-        const torch::Tensor mean = policy_->actionMean(features, rig);
-        const torch::Tensor log_ratio =
-            gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
-            rollout.log_probs.index_select(0, index);
-        const torch::Tensor ratio = log_ratio.exp();
-        const torch::Tensor advantage = advantages.index_select(0, index);
-        const torch::Tensor surrogate = torch::min(
-            ratio * advantage,
-            ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
-        const torch::Tensor policy_loss =
-            -surrogate.mean() - options_.entropy_coefficient * update.entropy;
-        const torch::Tensor value_error =
-            policy_->value(features, rig) - returns.index_select(0, index);
-        const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
-
-        actor_optimizer_->zero_grad();
-        critic_optimizer_->zero_grad();
-        if (backbone_optimizer_) backbone_optimizer_->zero_grad();
-        (policy_loss + value_loss).backward();
-        if (options_.max_grad_norm > 0) {
-          torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
-          torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
-          if (backbone_optimizer_) {
-            torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
-                                              options_.max_grad_norm);
-          }
-        }
-        actor_optimizer_->step();
-        critic_optimizer_->step();
-        if (backbone_optimizer_) backbone_optimizer_->step();
-
-        torch::NoGradGuard no_grad;
-        const double kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
-        epoch_kl += kl;
+        const MinibatchFigures figures =
+            optimiseMinibatch(rollout, advantages, returns, index, std, update.entropy);
+        epoch_kl += figures.kl;
         ++epoch_batches;
-        kl_sum += kl;
-        clip_sum +=
-            ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
-        policy_sum += policy_loss.item<double>();
-        value_sum += value_loss.item<double>();
+        sum.kl += figures.kl;
+        sum.clip_fraction += figures.clip_fraction;
+        sum.policy_loss += figures.policy_loss;
+        sum.value_loss += figures.value_loss;
         ++batches;
       }
       update.epochs_run = epoch + 1;
@@ -442,10 +466,10 @@ class PpoTrainer {
         break;
       }
     }
-    update.policy_loss = policy_sum / std::max(1, batches);
-    update.value_loss = value_sum / std::max(1, batches);
-    update.approx_kl = kl_sum / std::max(1, batches);
-    update.clip_fraction = clip_sum / std::max(1, batches);
+    update.policy_loss = sum.policy_loss / std::max(1, batches);
+    update.value_loss = sum.value_loss / std::max(1, batches);
+    update.approx_kl = sum.kl / std::max(1, batches);
+    update.clip_fraction = sum.clip_fraction / std::max(1, batches);
     const double return_variance = returns.var().item<double>();
     update.explained_variance =
         return_variance > 0
@@ -470,7 +494,7 @@ class PpoTrainer {
   }
 
   void appendEpisode(const PpoEpisode& e) {
-    std::ofstream out(fs::path(run_dir_) / "episodes.csv", std::ios::app);
+    std::ofstream out(fs::path(run_dir_) / kEpisodesCsv, std::ios::app);
     out << e.index << ',' << e.env_steps << ',' << e.environment << ',' << e.seed << ',' << e.reward
         << ',' << e.steps << ',' << (e.success ? 1 : 0) << '\n';
   }
@@ -518,7 +542,7 @@ class PpoTrainer {
   void resume() {
     const fs::path dir(run_dir_);
     if (!fs::exists(dir / "checkpoint.pt") || !fs::exists(dir / "checkpoint.json")) {
-      trimCsv(dir / "episodes.csv", kEpisodeHeader, 0);
+      trimCsv(dir / kEpisodesCsv, kEpisodeHeader, 0);
       trimCsv(dir / "updates.csv", kUpdateHeader, 0);
       return;
     }
@@ -547,7 +571,7 @@ class PpoTrainer {
     progress_.episodes = state.at("episodes").get<std::int64_t>();
     std::istringstream random(state.at("random").get<std::string>());
     random >> progress_.random;
-    trimCsv(dir / "episodes.csv", kEpisodeHeader, progress_.episodes);
+    trimCsv(dir / kEpisodesCsv, kEpisodeHeader, progress_.episodes);
     trimCsv(dir / "updates.csv", kUpdateHeader, progress_.updates);
   }
 

@@ -356,6 +356,178 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   return m;
 }
 
+namespace {
+
+// The manifest of the model a warm restart (--init-from) starts from; null without one. Throws
+// InvalidArgumentError when that model is not a network like the one being trained.
+nlohmann::json initialModelManifest(const TrainingOptions& options) {
+  if (options.init_from.empty()) return nlohmann::json();
+  nlohmann::json init_manifest = readManifest(options.init_from);
+  if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
+      !init_manifest.contains("network") ||
+      NetworkConfig::fromJson(init_manifest.at("network")).toJson() != options.network.toJson()) {
+    throw InvalidArgumentError("--init-from " + options.init_from +
+                               " is not a multi-task network like the one being trained (" +
+                               options.network.toJson().dump() + ")");
+  }
+  return init_manifest;
+}
+
+// What a checkpoint must have been made with to be resumed: the options and the data, and the
+// model a warm restart started from (what it was: its manifest).
+nlohmann::json runIdentity(const TrainingData& data, const TrainingOptions& options,
+                           const nlohmann::json& init_manifest) {
+  nlohmann::json identity = {{"options", options.toJson()},
+                             {"dataset", data.dataset_dir},
+                             {"dataset_options", data.dataset_manifest.at("options")},
+                             {"train_frames", data.train.size()},
+                             {"validation_frames", data.validation.size()}};
+  if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
+  if (!options.init_from.empty()) identity["init_from_manifest"] = init_manifest;
+  return identity;
+}
+
+// Where a run stands: the epochs done and the best validation IoU so far.
+struct TrainingProgress {
+  std::vector<EpochMetrics> history;
+  double best_iou = -1.0;
+};
+
+// The run's files: a checkpoint (network and optimiser) and its state (identity, progress).
+struct RunFiles {
+  fs::path dir, checkpoint, state;
+  explicit RunFiles(const std::string& run_dir)
+      : dir(run_dir), checkpoint(dir / "checkpoint.pt"), state(dir / "checkpoint.json") {}
+};
+
+// Resumes from the run's checkpoint when there is one (it must have `identity`), else starts a
+// warm restart from options.init_from, else from the network's initial weights.
+TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
+                               const RunFiles& files, const nlohmann::json& identity,
+                               const TrainingOptions& options) {
+  TrainingProgress progress;
+  if (fs::exists(files.checkpoint) && fs::exists(files.state)) {
+    std::ifstream in(files.state);
+    const nlohmann::json state = nlohmann::json::parse(in);
+    if (withCanonicalPaths(state.at("identity")) != withCanonicalPaths(identity)) {
+      throw InvalidArgumentError("the checkpoint in " + files.dir.string() +
+                                 " was made with other options or data; use another --out folder");
+    }
+    torch::serialize::InputArchive archive;
+    archive.load_from(files.checkpoint.string());
+    torch::serialize::InputArchive model_archive, optimizer_archive;
+    archive.read("model", model_archive);
+    archive.read("optimizer", optimizer_archive);
+    network->load(model_archive);
+    optimizer.load(optimizer_archive);
+    for (const nlohmann::json& epoch : state.at("history"))
+      progress.history.push_back(epoch.get<EpochMetrics>());
+    progress.best_iou = state.at("best_iou").get<double>();
+  } else if (!options.init_from.empty()) {
+    loadCheckedParameters(*network, options.init_from,
+                          "the network being trained (" + options.network.toJson().dump() + ")");
+  }
+  return progress;
+}
+
+// The loss of one batch (Eq. 10 + Eq. 11, plus the optional pixel-wise cross-entropy).
+torch::Tensor batchLoss(const NetworkOutput& out, const Batch& batch,
+                        const TrainingOptions& options) {
+  torch::Tensor loss =
+      options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
+      options.direction_weight *
+          (maskedMean(directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
+                      batch.gradient_valid) +
+           maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
+                      batch.escape_valid));
+  if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
+    loss = loss + options.bce_weight *
+                      torch::binary_cross_entropy_with_logits(out.occlusion_logits, batch.masks);
+  }
+  return loss;
+}
+
+// One epoch of the cosine schedule over all runs' batches; the last partial batch is dropped.
+// Returns the metrics of the epoch: validation figures, loss, rate and speed.
+EpochMetrics trainEpoch(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
+                        const TrainingData& data, const TrainingOptions& options, int epoch,
+                        const TrainingCallbacks& callbacks) {
+  const int64_t n = data.train.size();
+  const int batches = static_cast<int>(n / options.batch_size);
+  const double total_batches = static_cast<double>(batches) * options.epochs;
+  const auto start = std::chrono::steady_clock::now();
+  torch::manual_seed(options.seed * 1000003ull + static_cast<std::uint64_t>(epoch));
+  const torch::Tensor order = torch::randperm(n, torch::kLong);
+  network->train();
+  double loss_sum = 0.0;
+  double rate = options.learning_rate;
+  for (int b = 0; b < batches; ++b) {
+    const double progress = ((epoch - 1) * static_cast<double>(batches) + b) / total_batches;
+    rate = options.learning_rate * 0.5 * (1.0 + std::cos(M_PI * progress));
+    setLearningRate(optimizer, rate);
+    Batch batch =
+        batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
+    if (options.augment) augment(batch);
+    const torch::Tensor loss = batchLoss(network->forward(batch.inputs), batch, options);
+    optimizer.zero_grad();
+    loss.backward();
+    optimizer.step();
+    loss_sum += loss.item<double>();
+    if (callbacks.on_batch) callbacks.on_batch(epoch, b + 1, batches);
+  }
+  const double train_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EpochMetrics metrics = evaluate(network, data.validation, 64, options.direction_loss);
+  metrics.epoch = epoch;
+  metrics.learning_rate = rate;
+  metrics.train_loss = loss_sum / std::max(1, batches);
+  metrics.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  metrics.images_per_second = batches * options.batch_size / train_seconds;
+  return metrics;
+}
+
+// The manifest of the best model so far (best.pt): the run, its data and the epoch's figures.
+nlohmann::json bestModelInfo(const TrainingData& data, const TrainingOptions& options,
+                             const nlohmann::json& init_manifest, const EpochMetrics& metrics) {
+  nlohmann::json info = {{"training", options.toJson()},
+                         {"dataset", data.dataset_dir},
+                         {"dataset_options", data.dataset_manifest.at("options")},
+                         {"train_frames", data.train.size()},
+                         {"validation_frames", data.validation.size()},
+                         {"epoch", metrics.epoch},
+                         {"validation", metrics.toJson()}};
+  if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
+  if (!options.init_from.empty()) {
+    info["initialised_from"] = {
+        {"model", options.init_from},
+        {"training", init_manifest.value("training", nlohmann::json())},
+        {"epoch", init_manifest.value("epoch", 0)},
+        {"validation", init_manifest.value("validation", nlohmann::json())}};
+  }
+  return info;
+}
+
+// Checkpoint and state, each written next to the old one and then renamed over it; the log.
+void writeCheckpoint(MultiTaskUNet& network, torch::optim::AdamW& optimizer, const RunFiles& files,
+                     const nlohmann::json& identity, const TrainingProgress& progress) {
+  torch::serialize::OutputArchive archive, model_archive, optimizer_archive;
+  network->save(model_archive);
+  optimizer.save(optimizer_archive);
+  archive.write("model", model_archive);
+  archive.write("optimizer", optimizer_archive);
+  archive.save_to(files.checkpoint.string() + ".tmp");
+  fs::rename(files.checkpoint.string() + ".tmp", files.checkpoint);
+  nlohmann::json state = {{"identity", identity},
+                          {"best_iou", progress.best_iou},
+                          {"history", nlohmann::json::array()}};
+  for (const EpochMetrics& m : progress.history) state["history"].push_back(m.toJson());
+  std::ofstream(files.state.string() + ".tmp") << state.dump(1);
+  fs::rename(files.state.string() + ".tmp", files.state);
+  writeLog((files.dir / "log.csv").string(), progress.history);
+}
+
+}  // namespace
+
 std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
                                 const std::string& run_dir, const TrainingCallbacks& callbacks) {
   options.validate();
@@ -369,143 +541,29 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
   }
   setLibtorchThreads(options.threads);
   fs::create_directories(run_dir);
-  const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
-  const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
-  nlohmann::json identity = {{"options", options.toJson()},
-                             {"dataset", data.dataset_dir},
-                             {"dataset_options", data.dataset_manifest.at("options")},
-                             {"train_frames", data.train.size()},
-                             {"validation_frames", data.validation.size()}};
-  if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
-  // The model a warm restart starts from: what it was (its manifest) is part of the run.
-  nlohmann::json init_manifest;
-  if (!options.init_from.empty()) {
-    init_manifest = readManifest(options.init_from);
-    if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
-        !init_manifest.contains("network") ||
-        NetworkConfig::fromJson(init_manifest.at("network")).toJson() != options.network.toJson()) {
-      throw InvalidArgumentError("--init-from " + options.init_from +
-                                 " is not a multi-task network like the one being trained (" +
-                                 options.network.toJson().dump() + ")");
-    }
-    identity["init_from_manifest"] = init_manifest;
-  }
+  const RunFiles files(run_dir);
+  const nlohmann::json init_manifest = initialModelManifest(options);
+  const nlohmann::json identity = runIdentity(data, options, init_manifest);
 
   torch::manual_seed(options.seed);
   MultiTaskUNet network(options.network);
   torch::optim::AdamW optimizer(
       network->parameters(),
       torch::optim::AdamWOptions(options.learning_rate).weight_decay(options.weight_decay));
-  std::vector<EpochMetrics> history;
-  double best_iou = -1.0;
-  int first_epoch = 1;
-  if (fs::exists(checkpoint_path) && fs::exists(state_path)) {
-    std::ifstream in(state_path);
-    const nlohmann::json state = nlohmann::json::parse(in);
-    if (withCanonicalPaths(state.at("identity")) != withCanonicalPaths(identity)) {
-      throw InvalidArgumentError("the checkpoint in " + run_dir +
-                                 " was made with other options or data; use another --out folder");
-    }
-    torch::serialize::InputArchive archive;
-    archive.load_from(checkpoint_path.string());
-    torch::serialize::InputArchive model_archive, optimizer_archive;
-    archive.read("model", model_archive);
-    archive.read("optimizer", optimizer_archive);
-    network->load(model_archive);
-    optimizer.load(optimizer_archive);
-    for (const nlohmann::json& epoch : state.at("history"))
-      history.push_back(epoch.get<EpochMetrics>());
-    best_iou = state.at("best_iou").get<double>();
-    first_epoch = static_cast<int>(history.size()) + 1;
-  } else if (!options.init_from.empty()) {
-    loadCheckedParameters(*network, options.init_from,
-                          "the network being trained (" + options.network.toJson().dump() + ")");
-  }
-
-  const int64_t n = data.train.size();
-  const int batches =
-      static_cast<int>(n / options.batch_size);  // the last partial batch is dropped
-  const double total_batches = static_cast<double>(batches) * options.epochs;
+  TrainingProgress progress = resumeOrStart(network, optimizer, files, identity, options);
+  const int first_epoch = static_cast<int>(progress.history.size()) + 1;
   for (int epoch = first_epoch; epoch <= options.epochs; ++epoch) {
-    const auto start = std::chrono::steady_clock::now();
-    torch::manual_seed(options.seed * 1000003ull + static_cast<std::uint64_t>(epoch));
-    const torch::Tensor order = torch::randperm(n, torch::kLong);
-    network->train();
-    double loss_sum = 0.0;
-    double rate = options.learning_rate;
-    for (int b = 0; b < batches; ++b) {
-      const double progress = ((epoch - 1) * static_cast<double>(batches) + b) / total_batches;
-      rate = options.learning_rate * 0.5 * (1.0 + std::cos(M_PI * progress));
-      setLearningRate(optimizer, rate);
-      Batch batch =
-          batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
-      if (options.augment) augment(batch);
-      const NetworkOutput out = network->forward(batch.inputs);
-      torch::Tensor loss =
-          options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
-          options.direction_weight *
-              (maskedMean(
-                   directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
-                   batch.gradient_valid) +
-               maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
-                          batch.escape_valid));
-      if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
-        loss = loss + options.bce_weight * torch::binary_cross_entropy_with_logits(
-                                               out.occlusion_logits, batch.masks);
-      }
-      optimizer.zero_grad();
-      loss.backward();
-      optimizer.step();
-      loss_sum += loss.item<double>();
-      if (callbacks.on_batch) callbacks.on_batch(epoch, b + 1, batches);
+    const EpochMetrics metrics = trainEpoch(network, optimizer, data, options, epoch, callbacks);
+    progress.history.push_back(metrics);
+    if (metrics.val_iou > progress.best_iou) {
+      progress.best_iou = metrics.val_iou;
+      saveModel(network, (files.dir / "best.pt").string(),
+                bestModelInfo(data, options, init_manifest, metrics));
     }
-    const double train_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    EpochMetrics metrics = evaluate(network, data.validation, 64, options.direction_loss);
-    metrics.epoch = epoch;
-    metrics.learning_rate = rate;
-    metrics.train_loss = loss_sum / std::max(1, batches);
-    metrics.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    metrics.images_per_second = batches * options.batch_size / train_seconds;
-    history.push_back(metrics);
-
-    if (metrics.val_iou > best_iou) {
-      best_iou = metrics.val_iou;
-      nlohmann::json info = {{"training", options.toJson()},
-                             {"dataset", data.dataset_dir},
-                             {"dataset_options", data.dataset_manifest.at("options")},
-                             {"train_frames", data.train.size()},
-                             {"validation_frames", data.validation.size()},
-                             {"epoch", epoch},
-                             {"validation", metrics.toJson()}};
-      if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
-      if (!options.init_from.empty()) {
-        info["initialised_from"] = {
-            {"model", options.init_from},
-            {"training", init_manifest.value("training", nlohmann::json())},
-            {"epoch", init_manifest.value("epoch", 0)},
-            {"validation", init_manifest.value("validation", nlohmann::json())}};
-      }
-      saveModel(network, (fs::path(run_dir) / "best.pt").string(), info);
-    }
-    // Checkpoint: written next to the old one, then renamed over it.
-    torch::serialize::OutputArchive archive, model_archive, optimizer_archive;
-    network->save(model_archive);
-    optimizer.save(optimizer_archive);
-    archive.write("model", model_archive);
-    archive.write("optimizer", optimizer_archive);
-    archive.save_to(checkpoint_path.string() + ".tmp");
-    fs::rename(checkpoint_path.string() + ".tmp", checkpoint_path);
-    nlohmann::json state = {
-        {"identity", identity}, {"best_iou", best_iou}, {"history", nlohmann::json::array()}};
-    for (const EpochMetrics& m : history) state["history"].push_back(m.toJson());
-    std::ofstream(state_path.string() + ".tmp") << state.dump(1);
-    fs::rename(state_path.string() + ".tmp", state_path);
-    writeLog((fs::path(run_dir) / "log.csv").string(), history);
+    writeCheckpoint(network, optimizer, files, identity, progress);
     if (callbacks.on_epoch) callbacks.on_epoch(metrics);
   }
-  return history;
+  return progress.history;
 }
 
 std::string loadedBlasLibrary() {

@@ -5,22 +5,19 @@
 //   warm-up, the last window's rate fell below ~min_rate_ratio (0.7) of the first's, or a request
 //   failed; ~simulator: the simulator node's name (default /occlusion_sim).
 // The simulator's PID comes from its ROS slave API (getPid); its memory is read from /proc, so
-// both must run on the same machine.
+// both must run on the same machine. The loop is the in-process soak's (eval/soak.hpp), here on
+// the services through EnvironmentClient.
 #include <ros/network.h>
 #include <ros/ros.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
-#include <unistd.h>
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <fstream>
+#include <cstdio>
 #include <string>
 
-#include "occlusion_env/Reset.h"
-#include "occlusion_env/Step.h"
-#include "occlusion_env/common/random.hpp"
+#include "occlusion_env/eval/soak.hpp"
+#include "occlusion_env/ros/environment_client.hpp"
 #include "occlusion_env/ros/names.hpp"
+#include "occlusion_env/ros/parameters.hpp"
 
 namespace {
 
@@ -42,115 +39,73 @@ int nodePid(const std::string& name) {
   return static_cast<int>(pid_result[2]);
 }
 
-/// Resident set size of process `pid` [MiB]; negative when it cannot be read.
-double residentMiB(int pid) {
-  std::ifstream statm("/proc/" + std::to_string(pid) + "/statm");
-  long pages_total = 0, pages_resident = 0;
-  if (!(statm >> pages_total >> pages_resident)) return -1.0;
-  return static_cast<double>(pages_resident) * sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace occlusion_env;
   ros::init(argc, argv, "occlusion_service_soak");
   ros::NodeHandle private_node("~");
-  ros::NodeHandle node(names::kNamespace);
-  const int total_steps = private_node.param("steps", 20000);
-  const int reset_every = std::max(1, private_node.param("reset_every", 50));
-  const int report_every = std::max(1, private_node.param("report_every", 2000));
-  const int warmup = private_node.param("warmup", 1000);
-  const bool check = private_node.param("check", false);
-  const double max_growth_mib = private_node.param("max_growth_mb", 5.0);
-  const double min_rate_ratio = private_node.param("min_rate_ratio", 0.7);
-  const std::string simulator =
-      private_node.param<std::string>("simulator", std::string("/") + names::kSimulatorNode);
+  eval::SoakOptions soak;
+  soak.total_steps = 20000;
+  soak.report_every = 2000;
+  bool check = false;
+  double max_growth_mib = 5.0, min_rate_ratio = 0.7;
+  std::string simulator = std::string("/") + names::kSimulatorNode;
+  try {
+    const ParameterReader reader(private_node);
+    reader.read("steps", soak.total_steps);
+    reader.read("reset_every", soak.reset_every);
+    reader.read("report_every", soak.report_every);
+    reader.read("warmup", soak.warmup);
+    reader.read("check", check);
+    reader.read("max_growth_mb", max_growth_mib);
+    reader.read("min_rate_ratio", min_rate_ratio);
+    reader.read("simulator", simulator);
+  } catch (const ParameterError& error) {
+    ROS_FATAL_STREAM(error.what());
+    return 2;
+  }
 
-  // Persistent connections are opened on the first call: create them once the services exist.
-  const std::string reset_name = node.resolveName(names::kResetService);
-  const std::string step_name = node.resolveName(names::kStepService);
-  if (!ros::service::waitForService(reset_name, ros::Duration(60.0)) ||
-      !ros::service::waitForService(step_name, ros::Duration(10.0))) {
-    ROS_FATAL_STREAM("no simulator: " << reset_name << " did not appear in 60 s");
+  EnvironmentClient client{ros::NodeHandle(names::kNamespace)};
+  try {
+    client.connect();
+  } catch (const std::exception& error) {
+    ROS_FATAL_STREAM("no simulator: " << error.what());
     return 1;
   }
-  ros::ServiceClient reset_client = node.serviceClient<Reset>(reset_name, true);
-  ros::ServiceClient step_client = node.serviceClient<Step>(step_name, true);
   const int pid = nodePid(simulator);
   if (pid <= 0) {
     ROS_FATAL_STREAM("cannot find the PID of " << simulator << " (set ~simulator)");
     return 1;
   }
 
-  std::uint64_t seed = 0;
-  int steps_in_episode = 0, failures = 0;
-  const auto resetNext = [&]() -> bool {
-    for (int tries = 0; tries < 100; ++tries) {
-      Reset reset;
-      reset.request.seed = seed++;
-      if (!reset_client.call(reset)) return false;
-      if (reset.response.status.code == Status::OK) {
-        steps_in_episode = 0;
-        return true;
-      }
-    }
-    return false;
+  eval::SoakHooks hooks;
+  hooks.resident_mib = [pid] { return eval::residentMiB(pid); };
+  hooks.keep_going = [] { return ros::ok(); };
+  hooks.on_failure = [](long step, const std::string& what) {
+    ROS_ERROR_STREAM("step " << step << ": " << what);
   };
-  if (!resetNext()) {
-    ROS_FATAL_STREAM("the first reset failed (" << reset_name << ")");
+  hooks.on_window = [](const eval::SoakWindow& w) {
+    std::printf("%9ld %8llu %9.1f %19.1f\n", w.step, static_cast<unsigned long long>(w.resets),
+                w.steps_per_s, w.resident_mib);
+    std::fflush(stdout);
+  };
+  std::printf("    steps   resets   steps/s   simulator RSS MiB\n");
+  eval::SoakReport r;
+  try {
+    r = eval::runSoak(client, soak, hooks);
+  } catch (const std::exception& error) {
+    ROS_FATAL_STREAM("soak on " << client.describe() << ": " << error.what());
     return 1;
   }
-
-  using Clock = std::chrono::steady_clock;
-  RandomSource random(12345);
-  const auto start = Clock::now();
-  auto window_start = start;
-  double baseline_mib = residentMiB(pid), first_rate = 0.0, last_rate = 0.0;
-  std::printf("    steps   resets   steps/s   simulator RSS MiB\n");
-  for (int step = 1; step <= total_steps && ros::ok(); ++step) {
-    const double angle = random.uniform(-M_PI, M_PI);
-    Step request;
-    request.request.action.d_azimuth = std::cos(angle);
-    request.request.action.d_elevation = std::sin(angle);
-    if (!step_client.call(request) || request.response.status.code != Status::OK) {
-      ++failures;
-      ROS_ERROR_STREAM("step " << step << " failed: " << request.response.status.message);
-      if (!resetNext()) break;
-      continue;
-    }
-    ++steps_in_episode;
-    if (request.response.terminated || request.response.truncated ||
-        steps_in_episode >= reset_every) {
-      if (!resetNext()) {
-        ++failures;
-        break;
-      }
-    }
-    if (step == warmup) baseline_mib = residentMiB(pid);
-    if (step % report_every == 0 || step == total_steps) {
-      const auto now = Clock::now();
-      const int window = step % report_every == 0 ? report_every : step % report_every;
-      const double rate = window / std::chrono::duration<double>(now - window_start).count();
-      window_start = now;
-      if (first_rate == 0.0) first_rate = rate;
-      last_rate = rate;
-      std::printf("%9d %8llu %9.1f %19.1f\n", step, static_cast<unsigned long long>(seed), rate,
-                  residentMiB(pid));
-      std::fflush(stdout);
-    }
-  }
-  const double end_mib = residentMiB(pid);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const double growth = end_mib - baseline_mib;
   std::printf(
-      "summary: %d steps through the services in %.1f s (%.1f steps/s incl. resets), %d failed; "
+      "summary: %ld steps through the services in %.1f s (%.1f steps/s incl. resets), %d failed; "
       "simulator RSS after warm-up %.2f MiB, at the end %.2f MiB (growth %.2f MiB); rate first "
       "window %.1f/s, last %.1f/s (ratio %.2f)\n",
-      total_steps, seconds, total_steps / seconds, failures, baseline_mib, end_mib, growth,
-      first_rate, last_rate, last_rate / first_rate);
-  if (check &&
-      (failures > 0 || growth > max_growth_mib || last_rate < min_rate_ratio * first_rate)) {
+      r.steps, r.seconds, r.steps / r.seconds, r.failures, r.baseline_mib, r.end_mib, r.growthMiB(),
+      r.first_rate, r.last_rate, r.rateRatio());
+  if (check && (r.failures > 0 || r.growthMiB() > max_growth_mib ||
+                r.last_rate < min_rate_ratio * r.first_rate)) {
     ROS_ERROR("soak check failed (failures, memory growth or rate decay beyond the limits)");
     return 1;
   }

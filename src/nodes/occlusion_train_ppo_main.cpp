@@ -30,7 +30,7 @@ constexpr const char* kUsage = R"(Usage: occlusion_train_ppo --out RUN_DIR [opti
 Trains a PPO policy (actor and critic on the pretrained multi-task network's encoder) on training
 scenes (seeds drawn below 900,000: validation scenes are 900,000-999,999 and test scenes from
 1,000,000; models of the train split). Every update goes to RUN_DIR/updates.csv,
-every episode to RUN_DIR/episodes.csv; checkpoints every few updates (re-run the same command to
+every episode to RUN_DIR/training_episodes.csv; checkpoints every few updates (re-run the same command to
 resume); RUN_DIR/policy.pt (+ .json) is the final policy (agent `policy`, ~model_path).
 
 Environments:
@@ -217,6 +217,64 @@ int printMeanLengths(const std::vector<std::string>& paths) {
   return 0;
 }
 
+// The environments PPO trains on: how many, how each is made (on its own thread), and where.
+struct TrainingEnvironments {
+  int count = 0;
+  occlusion_env::VectorEnvironment::Factory factory;
+  std::string where;
+};
+
+// The simulators under the ROS namespaces of `list` (NS,NS,...), each through an
+// EnvironmentClient; initialises ROS.
+TrainingEnvironments rosSimulators(const std::string& list, int argc, char** argv) {
+  using namespace occlusion_env;
+  const std::vector<std::string> namespaces = tools::splitList("--envs", list);
+  // Ctrl-C ends the process at once (the run resumes from its last checkpoint).
+  ros::init(argc, argv, "occlusion_train_ppo",
+            ros::init_options::AnonymousName | ros::init_options::NoSigintHandler);
+  TrainingEnvironments envs;
+  envs.count = static_cast<int>(namespaces.size());
+  envs.factory = [namespaces](int i) {
+    // Held out means held out: a simulator that may draw test-split models is refused.
+    if (!requireTrainSplit(namespaces[i])) {
+      std::cerr << "occlusion_train_ppo: WARNING: " << namespaces[i]
+                << "/occlusion_sim/model_split is not set: cannot check that it draws only "
+                   "train-split models\n";
+    }
+    auto client = std::make_unique<EnvironmentClient>(
+        ros::NodeHandle(ros::NodeHandle(namespaces[i]), "occlusion"));
+    client->connect();
+    return std::unique_ptr<EnvironmentInterface>(std::move(client));
+  };
+  envs.where = "simulators under " + list;
+  return envs;
+}
+
+// --envs N in-process simulators on training scenes of the train split, sharing one library.
+TrainingEnvironments inProcessSimulators(const CommandLine& cl) {
+  using namespace occlusion_env;
+  TrainingEnvironments envs;
+  envs.count = static_cast<int>(tools::parseInteger("--envs", cl.envs, 1, 64));
+  SceneSet training;
+  training.name = "ppo_training";
+  training.source = cl.source;
+  training.categories = cl.categories;
+  training.model_split = "train";  // test-split models are never trained on
+  EnvironmentOptions options = environmentOptionsFor(training);
+  options.width = options.height = cl.resolution;
+  options.max_steps = cl.max_steps;
+  options.reward.normalization = parseRewardNormalization(cl.ppo.reward);
+  options.validate();
+  auto library =
+      std::make_shared<ObjectLibrary>(makeCatalog(options.catalog), options.lod_triangle_budget);
+  envs.factory = [options, library](int) {
+    return std::unique_ptr<EnvironmentInterface>(std::make_unique<Environment>(options, library));
+  };
+  envs.where = std::to_string(envs.count) + " in-process simulators (" + cl.source + ", " +
+               std::to_string(cl.resolution) + " px, train split)";
+  return envs;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -234,50 +292,10 @@ int main(int argc, char** argv) {
       std::cerr << "occlusion_train_ppo: WARNING: libtorch runs on the reference BLAS ("
                 << learning::loadedBlasLibrary() << "): install libopenblas0-openmp.\n";
     }
-    int count = 0;
-    VectorEnvironment::Factory factory;
-    std::string where;
-    if (cl.envs.rfind("ros:", 0) == 0) {
-      const std::vector<std::string> namespaces = tools::splitList("--envs", cl.envs.substr(4));
-      // Ctrl-C ends the process at once (the run resumes from its last checkpoint).
-      ros::init(argc, argv, "occlusion_train_ppo",
-                ros::init_options::AnonymousName | ros::init_options::NoSigintHandler);
-      count = static_cast<int>(namespaces.size());
-      factory = [namespaces](int i) {
-        // Held out means held out: a simulator that may draw test-split models is refused.
-        if (!requireTrainSplit(namespaces[i])) {
-          std::cerr << "occlusion_train_ppo: WARNING: " << namespaces[i]
-                    << "/occlusion_sim/model_split is not set: cannot check that it draws only "
-                       "train-split models\n";
-        }
-        auto client = std::make_unique<EnvironmentClient>(
-            ros::NodeHandle(ros::NodeHandle(namespaces[i]), "occlusion"));
-        client->connect();
-        return std::unique_ptr<EnvironmentInterface>(std::move(client));
-      };
-      where = "simulators under " + cl.envs.substr(4);
-    } else {
-      count = static_cast<int>(tools::parseInteger("--envs", cl.envs, 1, 64));
-      SceneSet training;
-      training.name = "ppo_training";
-      training.source = cl.source;
-      training.categories = cl.categories;
-      training.model_split = "train";  // test-split models are never trained on
-      EnvironmentOptions options = environmentOptionsFor(training);
-      options.width = options.height = cl.resolution;
-      options.max_steps = cl.max_steps;
-      options.reward.normalization = parseRewardNormalization(cl.ppo.reward);
-      options.validate();
-      auto library = std::make_shared<ObjectLibrary>(makeCatalog(options.catalog),
-                                                     options.lod_triangle_budget);
-      factory = [options, library](int) {
-        return std::unique_ptr<EnvironmentInterface>(
-            std::make_unique<Environment>(options, library));
-      };
-      where = std::to_string(count) + " in-process simulators (" + cl.source + ", " +
-              std::to_string(cl.resolution) + " px, train split)";
-    }
-    std::cerr << "occlusion_train_ppo: " << cl.ppo.total_steps << " steps on " << where
+    const TrainingEnvironments envs = cl.envs.rfind("ros:", 0) == 0
+                                          ? rosSimulators(cl.envs.substr(4), argc, argv)
+                                          : inProcessSimulators(cl);
+    std::cerr << "occlusion_train_ppo: " << cl.ppo.total_steps << " steps on " << envs.where
               << ", reward " << cl.ppo.reward << ", backbone " << cl.ppo.backbone_path << " -> "
               << cl.run_dir << "\n";
     eval::ProgressBar bar(std::cerr, static_cast<int>(cl.ppo.total_steps), "ppo");
@@ -290,7 +308,7 @@ int main(int argc, char** argv) {
       bar.update(static_cast<int>(std::min<std::int64_t>(u.env_steps, cl.ppo.total_steps)),
                  text.str());
     };
-    learning::trainPpo(cl.ppo, count, factory, ResetOptions{}, cl.run_dir, callbacks);
+    learning::trainPpo(cl.ppo, envs.count, envs.factory, ResetOptions{}, cl.run_dir, callbacks);
     bar.finish();
     const std::string script = packageShareDirectory() + "/scripts/plot_ppo.py";
     if (eval::runProgram({"/usr/bin/python3", script, cl.run_dir}, "", "") != 0) {

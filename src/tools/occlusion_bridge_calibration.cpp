@@ -143,7 +143,9 @@ std::size_t stopOf(const std::vector<View>& path, std::size_t probability, doubl
   return path.size();
 }
 
-int run(const Arguments& args) {
+// The agent's episode on each scene, as it would run behind the bridge (never stopped by the
+// truth): views[scene][t], the start view, then one per step, always max_steps + 1 of them.
+std::vector<std::vector<View>> recordViews(const Arguments& args) {
   using namespace occlusion_env;
   const AgentRegistry registry = learning::learningAgents();
   Environment environment(args.options);
@@ -153,7 +155,6 @@ int run(const Arguments& args) {
   for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
   cv::Mat mask, depth_16u, depth_mm;
 
-  // views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
   std::vector<std::vector<View>> views(args.scenes);
   for (int scene = 0; scene < args.scenes; ++scene) {
     const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
@@ -187,7 +188,12 @@ int run(const Arguments& args) {
     std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
   }
   std::cerr << "\n";
+  return views;
+}
 
+// What the agent reaches: the scenes whose path passes a truly clear view, and how soon.
+void printHeading(const Arguments& args, const std::vector<std::vector<View>>& views) {
+  using namespace occlusion_env;
   int reached = 0;              // scenes whose path passes a truly clear view
   double steps_to_clear = 0.0;  // to the first truly clear view; the limit where there is none
   for (const auto& path : views) {
@@ -209,6 +215,10 @@ int run(const Arguments& args) {
             << "| probability | threshold [px] | confirm views | stops on a clear view | stops "
                "too early (median true L there [px]) | never stops | mean steps to the stop |\n"
             << "|---:|---:|---:|---:|---:|---:|---:|\n";
+}
+
+// One row per rule (probability, threshold, confirm views): where the bridge would stop.
+void printRuleTable(const Arguments& args, const std::vector<std::vector<View>>& views) {
   for (std::size_t p = 0; p < args.probabilities.size(); ++p) {
     for (const double threshold : args.thresholds) {
       for (const double confirm : args.confirm_views) {
@@ -238,6 +248,12 @@ int run(const Arguments& args) {
       }
     }
   }
+}
+
+int run(const Arguments& args) {
+  const std::vector<std::vector<View>> views = recordViews(args);
+  printHeading(args, views);
+  printRuleTable(args, views);
   return 0;
 }
 

@@ -43,6 +43,37 @@ Options:
   --help                 this text
 )";
 
+// Checks `samples` frames of the dataset in `dir` against fresh renders; 1 on any mismatch.
+int runAudit(const std::string& dir, int samples, std::uint64_t seed) {
+  using namespace occlusion_env;
+  const dataset::AuditReport report = dataset::auditDataset(dir, samples, seed);
+  for (const std::string& line : report.problems) std::cerr << "audit: " << line << "\n";
+  std::cout << "audit of " << dir << ": " << report.frames_checked << " frames checked, "
+            << report.failures << " mismatches\n";
+  return report.failures == 0 ? 0 : 1;
+}
+
+// Generates (or resumes) the dataset in `out` with a progress bar.
+int runGeneration(const occlusion_env::dataset::DatasetOptions& options, const std::string& out) {
+  using namespace occlusion_env;
+  std::cerr << "occlusion_dataset: " << options.scenes << " scenes x " << options.frames
+            << " frames at " << options.size << " px into " << out
+            << (options.oracle_labels ? " (with oracle labels)" : "") << "\n";
+  std::unique_ptr<eval::ProgressBar> bar;
+  const dataset::GenerationReport report =
+      dataset::generateDataset(out, options, [&bar, &options](int done, int total) {
+        if (!bar) bar = std::make_unique<eval::ProgressBar>(std::cerr, total, "scenes");
+        bar->update(done, std::to_string(done * options.frames) + " frames");
+      });
+  if (bar) bar->finish();
+  std::cout << "occlusion_dataset: " << report.scenes_written << " scenes written ("
+            << report.frames_written << " frames), " << report.scenes_skipped
+            << " complete already; " << std::fixed << std::setprecision(1) << report.seconds
+            << " s, " << (report.seconds > 0 ? report.frames_written / report.seconds : 0.0)
+            << " frames/s\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -100,31 +131,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (!audit.empty()) {
-      const dataset::AuditReport report = dataset::auditDataset(audit, samples, audit_seed);
-      for (const std::string& line : report.problems) std::cerr << "audit: " << line << "\n";
-      std::cout << "audit of " << audit << ": " << report.frames_checked << " frames checked, "
-                << report.failures << " mismatches\n";
-      return report.failures == 0 ? 0 : 1;
-    }
-    std::cerr << "occlusion_dataset: " << options.scenes << " scenes x " << options.frames
-              << " frames at " << options.size << " px into " << out
-              << (options.oracle_labels ? " (with oracle labels)" : "") << "\n";
-    std::unique_ptr<eval::ProgressBar> bar;
-    const dataset::GenerationReport report =
-        dataset::generateDataset(out, options, [&bar, &options](int done, int total) {
-          if (!bar) bar = std::make_unique<eval::ProgressBar>(std::cerr, total, "scenes");
-          bar->update(done, std::to_string(done * options.frames) + " frames");
-        });
-    if (bar) bar->finish();
-    std::cout << "occlusion_dataset: " << report.scenes_written << " scenes written ("
-              << report.frames_written << " frames), " << report.scenes_skipped
-              << " complete already; " << std::fixed << std::setprecision(1) << report.seconds
-              << " s, " << (report.seconds > 0 ? report.frames_written / report.seconds : 0.0)
-              << " frames/s\n";
+    return audit.empty() ? runGeneration(options, out) : runAudit(audit, samples, audit_seed);
   } catch (const std::exception& error) {
     std::cerr << "occlusion_dataset: " << error.what() << "\n";
     return 1;
   }
-  return 0;
 }

@@ -44,6 +44,70 @@ double median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// The silhouettes' worst IoU of each object's level-of-detail meshes against its full mesh.
+struct LodMeasurements {
+  std::vector<std::vector<std::vector<double>>> worst;  // [budget][distance][object]
+  std::vector<std::size_t> lod_triangles;               // per budget, all objects together
+  std::size_t full_triangles = 0;
+};
+
+// Measures every object of `ids` at every budget and distance; with `per_object` prints each
+// object's row as it is measured.
+LodMeasurements measureLods(occlusion_env::ObjectLibrary& library,
+                            occlusion_env::Renderer& renderer, const std::vector<std::string>& ids,
+                            const std::vector<double>& budgets,
+                            const std::vector<double>& distances, bool per_object) {
+  using namespace occlusion_env;
+  const std::vector<SphericalPose> views = silhouetteCheckViews();
+  RenderBuffers full_buffers, lod_buffers;
+  LodMeasurements m;
+  m.worst.assign(budgets.size(), std::vector<std::vector<double>>(distances.size()));
+  m.lod_triangles.assign(budgets.size(), 0);
+  for (std::size_t o = 0; o < ids.size(); ++o) {
+    std::cerr << "\r" << (o + 1) << "/" << ids.size() << " " << ids[o] << "\x1b[K" << std::flush;
+    const auto model = library.get(ids[o]);
+    m.full_triangles += model->full.triangleCount();
+    std::ostringstream row;
+    row << std::fixed << std::setprecision(4) << std::left << std::setw(44) << ids[o] << std::right
+        << std::setw(8) << model->full.triangleCount();
+    for (std::size_t b = 0; b < budgets.size(); ++b) {
+      const Mesh lod = simplifyMesh(model->full, static_cast<std::size_t>(budgets[b]));
+      m.lod_triangles[b] += lod.triangleCount();
+      for (std::size_t d = 0; d < distances.size(); ++d) {
+        const SphericalCamera camera(distances[d], 1.3);
+        const double iou = worstSilhouetteIou(renderer, model->full, lod, camera, views,
+                                              full_buffers, lod_buffers);
+        m.worst[b][d].push_back(iou);
+        row << "  " << iou;
+      }
+    }
+    if (per_object) std::cout << row.str() << "\n";
+  }
+  std::cerr << "\r\x1b[K";
+  return m;
+}
+
+// Per budget and distance: the worst object, the median and how many fall below `min_iou`.
+void printLodTable(const LodMeasurements& m, const std::vector<std::string>& ids,
+                   const std::vector<double>& budgets, const std::vector<double>& distances,
+                   double min_iou) {
+  std::cout << "| budget | LOD triangles | distance | worst IoU (object) | median | below "
+            << min_iou << " |\n|---|---|---|---|---|---|\n";
+  std::cout << std::fixed;
+  for (std::size_t b = 0; b < budgets.size(); ++b) {
+    for (std::size_t d = 0; d < distances.size(); ++d) {
+      const std::vector<double>& ious = m.worst[b][d];
+      const auto lowest = std::min_element(ious.begin(), ious.end());
+      const long below =
+          std::count_if(ious.begin(), ious.end(), [&](double iou) { return iou < min_iou; });
+      std::cout << "| " << std::setprecision(0) << budgets[b] << " | " << m.lod_triangles[b]
+                << " | " << std::setprecision(1) << distances[d] << " | " << std::setprecision(4)
+                << *lowest << " (" << ids[lowest - ious.begin()] << ") | " << median(ious) << " | "
+                << below << " |\n";
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,54 +162,12 @@ int main(int argc, char** argv) {
     if (ids.empty()) throw CatalogError("no object in category '" + category + "'");
     ObjectLibrary library(catalog, 0);  // full meshes; the budgets are applied here
     auto renderer = makeOsMesaRenderer(CameraIntrinsics::fromFieldOfView(size, size, M_PI / 3.0));
-    const std::vector<SphericalPose> views = silhouetteCheckViews();
-    RenderBuffers full_buffers, lod_buffers;
-
-    // worst[b][d][o]: object o's worst IoU at budget b and distance d.
-    std::vector<std::vector<std::vector<double>>> worst(
-        budgets.size(), std::vector<std::vector<double>>(distances.size()));
-    std::vector<std::size_t> lod_triangles(budgets.size(), 0);
-    std::size_t full_triangles = 0;
-    for (std::size_t o = 0; o < ids.size(); ++o) {
-      std::cerr << "\r" << (o + 1) << "/" << ids.size() << " " << ids[o] << "\x1b[K" << std::flush;
-      const auto model = library.get(ids[o]);
-      full_triangles += model->full.triangleCount();
-      std::ostringstream row;
-      row << std::fixed << std::setprecision(4) << std::left << std::setw(44) << ids[o]
-          << std::right << std::setw(8) << model->full.triangleCount();
-      for (std::size_t b = 0; b < budgets.size(); ++b) {
-        const Mesh lod = simplifyMesh(model->full, static_cast<std::size_t>(budgets[b]));
-        lod_triangles[b] += lod.triangleCount();
-        for (std::size_t d = 0; d < distances.size(); ++d) {
-          const SphericalCamera camera(distances[d], 1.3);
-          const double iou = worstSilhouetteIou(*renderer, model->full, lod, camera, views,
-                                                full_buffers, lod_buffers);
-          worst[b][d].push_back(iou);
-          row << "  " << iou;
-        }
-      }
-      if (per_object) std::cout << row.str() << "\n";
-    }
-    std::cerr << "\r\x1b[K";
-
+    const LodMeasurements m = measureLods(library, *renderer, ids, budgets, distances, per_object);
     std::cout << ids.size() << " objects (" << (category.empty() ? "all" : category) << "), "
-              << full_triangles << " triangles in full; " << size << "x" << size
-              << " px, 60 deg field of view, worst of " << views.size() << " views each\n\n";
-    std::cout << "| budget | LOD triangles | distance | worst IoU (object) | median | below "
-              << min_iou << " |\n|---|---|---|---|---|---|\n";
-    std::cout << std::fixed;
-    for (std::size_t b = 0; b < budgets.size(); ++b) {
-      for (std::size_t d = 0; d < distances.size(); ++d) {
-        const std::vector<double>& ious = worst[b][d];
-        const auto lowest = std::min_element(ious.begin(), ious.end());
-        const long below =
-            std::count_if(ious.begin(), ious.end(), [&](double iou) { return iou < min_iou; });
-        std::cout << "| " << std::setprecision(0) << budgets[b] << " | " << lod_triangles[b]
-                  << " | " << std::setprecision(1) << distances[d] << " | " << std::setprecision(4)
-                  << *lowest << " (" << ids[lowest - ious.begin()] << ") | " << median(ious)
-                  << " | " << below << " |\n";
-      }
-    }
+              << m.full_triangles << " triangles in full; " << size << "x" << size
+              << " px, 60 deg field of view, worst of " << silhouetteCheckViews().size()
+              << " views each\n\n";
+    printLodTable(m, ids, budgets, distances, min_iou);
   } catch (const std::exception& error) {
     std::cerr << "\nocclusion_lod_report: " << error.what() << "\n";
     return 1;

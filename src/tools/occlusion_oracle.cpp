@@ -35,39 +35,10 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The oracle's answer from the start view of each scene of the set (at most `limit`), as CSV on
+// stdout, with `compare` > 0 beside a second lattice spacing; a summary on stderr.
+int runOracle(const std::string& scenes_path, int limit, int size, double spacing, double compare) {
   using namespace occlusion_env;
-  std::string scenes_path;
-  int limit = 0, size = 128;
-  double spacing = 0.5, compare = 0.0;
-  try {
-    tools::ArgumentReader reader(argc, argv);
-    while (reader.next()) {
-      const std::string& flag = reader.flag();
-      if (flag == "--help" || flag == "-h") {
-        std::cout << kUsage;
-        return 0;
-      } else if (flag == "--scenes") {
-        scenes_path = reader.text();
-      } else if (flag == "--limit") {
-        limit = static_cast<int>(reader.integer(1, 1000000));
-      } else if (flag == "--size") {
-        size = static_cast<int>(reader.integer(64, 1024));
-      } else if (flag == "--spacing") {
-        spacing = reader.number(1e-3, 1.0);
-      } else if (flag == "--compare") {
-        compare = reader.number(1e-3, 1.0);
-      } else {
-        reader.unknown();
-      }
-    }
-    if (scenes_path.empty()) throw tools::ArgumentError("--scenes is required");
-  } catch (const tools::ArgumentError& error) {
-    std::cerr << "occlusion_oracle: " << error.what() << "\n" << kUsage;
-    return 2;
-  }
   try {
     SceneSet set = loadSceneSet(scenes_path);
     if (limit > 0 && static_cast<std::size_t>(limit) < set.seeds.size()) set.seeds.resize(limit);
@@ -119,4 +90,40 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace occlusion_env;
+  std::string scenes_path;
+  int limit = 0, size = 128;
+  double spacing = 0.5, compare = 0.0;
+  try {
+    tools::ArgumentReader reader(argc, argv);
+    while (reader.next()) {
+      const std::string& flag = reader.flag();
+      if (flag == "--help" || flag == "-h") {
+        std::cout << kUsage;
+        return 0;
+      } else if (flag == "--scenes") {
+        scenes_path = reader.text();
+      } else if (flag == "--limit") {
+        limit = static_cast<int>(reader.integer(1, 1000000));
+      } else if (flag == "--size") {
+        size = static_cast<int>(reader.integer(64, 1024));
+      } else if (flag == "--spacing") {
+        spacing = reader.number(1e-3, 1.0);
+      } else if (flag == "--compare") {
+        compare = reader.number(1e-3, 1.0);
+      } else {
+        reader.unknown();
+      }
+    }
+    if (scenes_path.empty()) throw tools::ArgumentError("--scenes is required");
+  } catch (const tools::ArgumentError& error) {
+    std::cerr << "occlusion_oracle: " << error.what() << "\n" << kUsage;
+    return 2;
+  }
+  return runOracle(scenes_path, limit, size, spacing, compare);
 }

@@ -4,18 +4,13 @@
 // Prints, every --report-every steps, the step rate over the last window and the resident set
 // size. With --check it exits 1 when memory grew more than --max-growth-mb after warm-up, or when
 // the last window's rate fell below --min-rate-ratio of the first's.
-#include <unistd.h>
-#include <algorithm>
-#include <chrono>
-#include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <string>
 
 #include "occlusion_env/common/errors.hpp"
-#include "occlusion_env/common/random.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/eval/soak.hpp"
 #include "occlusion_env/tools/arguments.hpp"
 
 namespace {
@@ -32,12 +27,42 @@ constexpr const char* kUsage = R"(Usage: occlusion_soak [options]
   --min-rate-ratio X  last window's rate / first window's rate at least this (default 0.7)
 )";
 
-/// Resident set size of this process [MiB], from /proc/self/statm.
-double residentMiB() {
-  std::ifstream statm("/proc/self/statm");
-  long pages_total = 0, pages_resident = 0;
-  statm >> pages_total >> pages_resident;
-  return static_cast<double>(pages_resident) * sysconf(_SC_PAGESIZE) / (1024.0 * 1024.0);
+/// Runs the soak on the in-process simulator and prints its windows and summary; the exit
+/// status (1: a step or reset failed, or with `check` a limit was exceeded).
+int runInProcessSoak(const occlusion_env::EnvironmentOptions& options,
+                     const occlusion_env::eval::SoakOptions& soak, bool check,
+                     double max_growth_mib, double min_rate_ratio) {
+  using namespace occlusion_env;
+  Environment env(options);
+  eval::SoakHooks hooks;
+  hooks.resident_mib = [] { return eval::residentMiB(); };
+  hooks.on_window = [](const eval::SoakWindow& w) {
+    std::cout << std::setw(9) << w.step << std::setw(11) << w.resets << std::setw(10)
+              << w.steps_per_s << std::setw(10) << w.resident_mib << std::endl;
+  };
+  hooks.on_failure = [](long step, const std::string& what) {
+    std::cerr << "occlusion_soak: step " << step << ": " << what << "\n";
+  };
+  std::cout << std::fixed << std::setprecision(1) << "    steps   episodes   steps/s   RSS MiB\n";
+  const eval::SoakReport r = eval::runSoak(env, soak, hooks);
+  const double growth = r.growthMiB();
+  std::cout << std::setprecision(2) << "summary: " << r.steps << " steps, " << r.resets
+            << " resets, " << r.seconds << " s (" << r.steps / r.seconds
+            << " steps/s incl. resets); RSS after warm-up " << r.baseline_mib << " MiB, at the end "
+            << r.end_mib << " MiB (growth " << growth << " MiB, peak " << r.peak_mib
+            << " MiB); rate first window " << r.first_rate << "/s, last " << r.last_rate
+            << "/s (ratio " << r.rateRatio() << ")\n";
+  if (r.failures > 0) return 1;  // reported as they happened
+  if (check && growth > max_growth_mib) {
+    std::cerr << "occlusion_soak: memory grew " << growth << " MiB > " << max_growth_mib << "\n";
+    return 1;
+  }
+  if (check && r.last_rate < min_rate_ratio * r.first_rate) {
+    std::cerr << "occlusion_soak: step rate decayed to " << r.rateRatio()
+              << " of the first window's\n";
+    return 1;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -87,68 +112,12 @@ int main(int argc, char** argv) {
   }
 
   try {
-    Environment env(options);
-    RandomSource random(12345);
-    std::uint64_t episode = 0;
-    long steps_in_episode = 0;
-    const auto resetNext = [&] {
-      // Seeds whose draws find no occluded start view are skipped, as a training loop would.
-      for (int tries = 0; tries < 100; ++tries) {
-        try {
-          env.reset(episode++);
-          steps_in_episode = 0;
-          return;
-        } catch (const SceneGenerationError&) {
-        }
-      }
-      throw SceneGenerationError("100 consecutive seeds without an occluded start view");
-    };
-    resetNext();
-
-    using Clock = std::chrono::steady_clock;
-    const auto start = Clock::now();
-    auto window_start = start;
-    double baseline_mib = residentMiB(), first_rate = 0.0, last_rate = 0.0, peak_mib = 0.0;
-    std::cout << std::fixed << std::setprecision(1) << "    steps   episodes   steps/s   RSS MiB\n";
-    for (long step = 1; step <= total_steps; ++step) {
-      const double angle = random.uniform(-M_PI, M_PI);
-      const StepResult result = env.step({std::cos(angle), std::sin(angle)});
-      ++steps_in_episode;
-      if (result.terminated || result.truncated || steps_in_episode >= reset_every) resetNext();
-      if (step == warmup) baseline_mib = residentMiB();
-      if (step % report_every == 0 || step == total_steps) {
-        const auto now = Clock::now();
-        const long window_steps = step % report_every == 0 ? report_every : step % report_every;
-        const double rate =
-            window_steps / std::chrono::duration<double>(now - window_start).count();
-        window_start = now;
-        if (first_rate == 0.0) first_rate = rate;
-        last_rate = rate;
-        const double rss = residentMiB();
-        if (step > warmup) peak_mib = std::max(peak_mib, rss);
-        std::cout << std::setw(9) << step << std::setw(11) << episode << std::setw(10) << rate
-                  << std::setw(10) << rss << std::endl;
-      }
-    }
-    const double end_mib = residentMiB();
-    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    const double growth = end_mib - baseline_mib;
-    std::cout << std::setprecision(2) << "summary: " << total_steps << " steps, " << episode
-              << " resets, " << seconds << " s (" << total_steps / seconds
-              << " steps/s incl. resets); RSS after warm-up " << baseline_mib << " MiB, at the end "
-              << end_mib << " MiB (growth " << growth << " MiB, peak " << peak_mib
-              << " MiB); rate first window " << first_rate << "/s, last " << last_rate
-              << "/s (ratio " << last_rate / first_rate << ")\n";
-    if (check && growth > max_growth_mib) {
-      std::cerr << "occlusion_soak: memory grew " << growth << " MiB > " << max_growth_mib << "\n";
-      return 1;
-    }
-    if (check && last_rate < min_rate_ratio * first_rate) {
-      std::cerr << "occlusion_soak: step rate decayed to " << last_rate / first_rate
-                << " of the first window's\n";
-      return 1;
-    }
-    return 0;
+    eval::SoakOptions soak;
+    soak.total_steps = total_steps;
+    soak.reset_every = reset_every;
+    soak.report_every = report_every;
+    soak.warmup = warmup;
+    return runInProcessSoak(options, soak, check, max_growth_mib, min_rate_ratio);
   } catch (const std::exception& error) {
     std::cerr << "occlusion_soak: " << error.what() << "\n";
     return 1;

@@ -132,6 +132,71 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   return 0;
 }
 
+// Trains on the datasets in `data_dirs` into `run_dir` (resuming a run there), with a progress
+// bar, each epoch's figures and the curves' plot; the exit status.
+int runTraining(const occlusion_env::learning::TrainingOptions& options,
+                const std::vector<std::string>& data_dirs, const std::string& run_dir,
+                int max_scenes) {
+  using namespace occlusion_env;
+  try {
+    options.validate();
+    if (learning::referenceBlasLoaded()) {
+      std::cerr << "occlusion_train: WARNING: libtorch runs on the reference BLAS ("
+                << learning::loadedBlasLibrary()
+                << "): convolutions are 5-8x slower. Install libopenblas0-openmp "
+                   "(scripts/install_deps.sh does).\n";
+    }
+    std::cerr << "occlusion_train: reading " << data_dirs.front()
+              << (data_dirs.size() > 1 ? " and " + std::to_string(data_dirs.size() - 1) + " more"
+                                       : std::string())
+              << " at " << options.network.input_size << " px...\n";
+    const learning::TrainingData data =
+        learning::loadTrainingData(data_dirs, options.network.input_size, max_scenes);
+    std::cerr << "occlusion_train: " << data.train.size() << " training and "
+              << data.validation.size() << " validation frames; " << options.network.variant << ", "
+              << options.epochs << " epochs, checkpoints in " << run_dir << "\n";
+    std::unique_ptr<eval::ProgressBar> bar;
+    int done = 0;  // batches in this run (a resumed run starts later)
+    learning::TrainingCallbacks callbacks;
+    callbacks.on_batch = [&](int epoch, int batch, int batches) {
+      if (!bar) {
+        bar = std::make_unique<eval::ProgressBar>(std::cerr, (options.epochs - epoch + 1) * batches,
+                                                  "training");
+        bar->update(0, "");
+      }
+      ++done;
+      if (batch % 10 == 0 || batch == batches) {
+        bar->update(done, "epoch " + std::to_string(epoch) + "/" + std::to_string(options.epochs));
+      }
+    };
+    callbacks.on_epoch = [&](const learning::EpochMetrics& m) {
+      std::cerr << "\nepoch " << m.epoch << ": train loss " << std::fixed << std::setprecision(4)
+                << m.train_loss << ", val IoU " << 100.0 * m.val_iou << " %, pixel acc "
+                << 100.0 * m.val_pixel_accuracy << " %, dice loss " << m.val_dice_loss
+                << ", gradient MSE " << m.val_gradient_mse << " (" << std::setprecision(1)
+                << m.val_gradient_angle_deg << " deg), escape MSE " << std::setprecision(4)
+                << m.val_escape_mse << " (" << std::setprecision(1) << m.val_escape_angle_deg
+                << " deg), " << std::setprecision(0) << m.images_per_second << " img/s\n";
+    };
+    const auto history = learning::train(data, options, run_dir, callbacks);
+    if (bar) bar->finish();
+    const std::string script = packageShareDirectory() + "/scripts/plot_training.py";
+    const std::string log = (std::filesystem::path(run_dir) / "log.csv").string();
+    if (eval::runProgram({"/usr/bin/python3", script, log}, "", "") != 0) {
+      std::cerr << "occlusion_train: plotting the curves failed (python3-matplotlib?)\n";
+    }
+    double best = 0.0;
+    for (const auto& m : history) best = std::max(best, m.val_iou);
+    std::cout << "occlusion_train: done, " << history.size() << " epochs; best validation IoU "
+              << std::fixed << std::setprecision(2) << 100.0 * best << " % in " << run_dir
+              << "/best.pt\n";
+  } catch (const std::exception& error) {
+    std::cerr << "\nocclusion_train: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -205,61 +270,5 @@ int main(int argc, char** argv) {
   }
   if (!bench_model.empty()) return benchInference(bench_model);
   if (!check_model.empty()) return checkModel(check_model, data_dirs, options.threads);
-  try {
-    options.validate();
-    if (learning::referenceBlasLoaded()) {
-      std::cerr << "occlusion_train: WARNING: libtorch runs on the reference BLAS ("
-                << learning::loadedBlasLibrary()
-                << "): convolutions are 5-8x slower. Install libopenblas0-openmp "
-                   "(scripts/install_deps.sh does).\n";
-    }
-    std::cerr << "occlusion_train: reading " << data_dirs.front()
-              << (data_dirs.size() > 1 ? " and " + std::to_string(data_dirs.size() - 1) + " more"
-                                       : std::string())
-              << " at " << options.network.input_size << " px...\n";
-    const learning::TrainingData data =
-        learning::loadTrainingData(data_dirs, options.network.input_size, max_scenes);
-    std::cerr << "occlusion_train: " << data.train.size() << " training and "
-              << data.validation.size() << " validation frames; " << options.network.variant << ", "
-              << options.epochs << " epochs, checkpoints in " << run_dir << "\n";
-    std::unique_ptr<eval::ProgressBar> bar;
-    int done = 0;  // batches in this run (a resumed run starts later)
-    learning::TrainingCallbacks callbacks;
-    callbacks.on_batch = [&](int epoch, int batch, int batches) {
-      if (!bar) {
-        bar = std::make_unique<eval::ProgressBar>(std::cerr, (options.epochs - epoch + 1) * batches,
-                                                  "training");
-        bar->update(0, "");
-      }
-      ++done;
-      if (batch % 10 == 0 || batch == batches) {
-        bar->update(done, "epoch " + std::to_string(epoch) + "/" + std::to_string(options.epochs));
-      }
-    };
-    callbacks.on_epoch = [&](const learning::EpochMetrics& m) {
-      std::cerr << "\nepoch " << m.epoch << ": train loss " << std::fixed << std::setprecision(4)
-                << m.train_loss << ", val IoU " << 100.0 * m.val_iou << " %, pixel acc "
-                << 100.0 * m.val_pixel_accuracy << " %, dice loss " << m.val_dice_loss
-                << ", gradient MSE " << m.val_gradient_mse << " (" << std::setprecision(1)
-                << m.val_gradient_angle_deg << " deg), escape MSE " << std::setprecision(4)
-                << m.val_escape_mse << " (" << std::setprecision(1) << m.val_escape_angle_deg
-                << " deg), " << std::setprecision(0) << m.images_per_second << " img/s\n";
-    };
-    const auto history = learning::train(data, options, run_dir, callbacks);
-    if (bar) bar->finish();
-    const std::string script = packageShareDirectory() + "/scripts/plot_training.py";
-    const std::string log = (std::filesystem::path(run_dir) / "log.csv").string();
-    if (eval::runProgram({"/usr/bin/python3", script, log}, "", "") != 0) {
-      std::cerr << "occlusion_train: plotting the curves failed (python3-matplotlib?)\n";
-    }
-    double best = 0.0;
-    for (const auto& m : history) best = std::max(best, m.val_iou);
-    std::cout << "occlusion_train: done, " << history.size() << " epochs; best validation IoU "
-              << std::fixed << std::setprecision(2) << 100.0 * best << " % in " << run_dir
-              << "/best.pt\n";
-  } catch (const std::exception& error) {
-    std::cerr << "\nocclusion_train: " << error.what() << "\n";
-    return 1;
-  }
-  return 0;
+  return runTraining(options, data_dirs, run_dir, max_scenes);
 }

@@ -98,7 +98,7 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   EXPECT_EQ(updates_seen, 3);
   EXPECT_GE(episodes_seen, 2);
   EXPECT_EQ(csvRows(run / "updates.csv").size(), 3u);
-  EXPECT_EQ(csvRows(run / "episodes.csv").size(), static_cast<std::size_t>(episodes_seen));
+  EXPECT_EQ(csvRows(run / "training_episodes.csv").size(), static_cast<std::size_t>(episodes_seen));
   EXPECT_TRUE(fs::exists(run / "checkpoint.pt"));
   EXPECT_TRUE(fs::exists(run / "checkpoint.json"));
   ASSERT_TRUE(fs::exists(run / "policy.pt"));

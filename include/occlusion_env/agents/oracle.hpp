@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -61,6 +62,15 @@ class OcclusionOracle {
   std::int64_t occlusionAt(const SphericalPose& pose);
   std::int64_t occlusionAtLattice(const LatticeIndex& index);
   SphericalPose latticePose(const LatticeIndex& index) const;
+  // Whether `pixels` of occlusion count as unoccluded (the environment's success threshold).
+  bool solved(std::int64_t pixels) const;
+  // The offset [rad] (azimuth, elevation) from `pose` to the nearest unoccluded lattice pose within
+  // max_steps steps and the elevation limit; none when there is none.
+  std::optional<Eigen::Vector2d> nearestUnoccludedLatticeOffset(const SphericalPose& pose);
+  // A single step from `pose` to an unoccluded view, its elevation change within
+  // [elevation_low, elevation_high]; none when no direction of the circle gives one.
+  std::optional<Action> unoccludingStep(const SphericalPose& pose, double elevation_low,
+                                        double elevation_high);
 
   Environment& environment_;
   OracleOptions options_;

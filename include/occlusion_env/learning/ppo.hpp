@@ -9,9 +9,9 @@
 // when the approximate KL exceeds 1.5 * target_kl. Frozen encoder by default: its features are
 // computed once per step and cached; with fine_tune the images are kept and re-encoded.
 //
-// Run directory: episodes.csv, updates.csv, checkpoint.pt/.json (every checkpoint_every updates
-// and at the end; re-running the same command resumes: the episodes in flight are restarted),
-// policy.pt/.json (the final policy, for the agents).
+// Run directory: training_episodes.csv, updates.csv, checkpoint.pt/.json (every checkpoint_every
+// updates and at the end; re-running the same command resumes: the episodes in flight are
+// restarted), policy.pt/.json (the final policy, for the agents).
 #pragma once
 
 #include <cstdint>

@@ -211,6 +211,10 @@ class OsMesaRenderer final : public Renderer {
   };
 
   void makeCurrent();
+  // The OpenGL 3.3 core context, made current; checks the implementation's limits.
+  void createContext();
+  // The shader program, the framebuffer with one target per object and a vertex array per slot.
+  void createSceneTargets();
   PixelRect footprint(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const;
   void readBack(RenderBuffers& out);
 
@@ -241,6 +245,24 @@ OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
       !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy)) {
     throw InvalidArgumentError("renderer: intrinsics need a positive size and focal lengths");
   }
+  createContext();
+  createSceneTargets();
+
+  // Fixed state for the context's lifetime.
+  glDisable(GL_CULL_FACE);   // meshes are not consistently wound
+  glDisable(GL_DEPTH_TEST);  // every object's every surface reaches its target
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_MIN);
+  glBlendFunc(GL_ONE, GL_ONE);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glViewport(0, 0, k.width, k.height);
+  glUseProgram(program_);
+  staging_.resize(static_cast<std::size_t>(k.width) * k.height * 4);
+  throwOnGlError("renderer setup");
+}
+
+void OsMesaRenderer::createContext() {
+  const CameraIntrinsics& k = intrinsics_;
   const int attributes[] = {OSMESA_FORMAT,
                             OSMESA_RGBA,
                             OSMESA_DEPTH_BITS,
@@ -270,7 +292,10 @@ OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
   if (k.width > max_size || k.height > max_size) {
     throw InvalidArgumentError("renderer: image size exceeds GL_MAX_RENDERBUFFER_SIZE");
   }
+}
 
+void OsMesaRenderer::createSceneTargets() {
+  const CameraIntrinsics& k = intrinsics_;
   program_ = linkProgram(fragmentShaderSource().c_str(), "scene");
   clip_location_ = glGetUniformLocation(program_, "u_clip_from_object");
   optical_location_ = glGetUniformLocation(program_, "u_optical_from_object");
@@ -303,18 +328,6 @@ OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices);
   }
   glBindVertexArray(0);
-
-  // Fixed state for the context's lifetime.
-  glDisable(GL_CULL_FACE);   // meshes are not consistently wound
-  glDisable(GL_DEPTH_TEST);  // every object's every surface reaches its target
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_MIN);
-  glBlendFunc(GL_ONE, GL_ONE);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glViewport(0, 0, k.width, k.height);
-  glUseProgram(program_);
-  staging_.resize(static_cast<std::size_t>(k.width) * k.height * 4);
-  throwOnGlError("renderer setup");
 }
 
 void OsMesaRenderer::makeCurrent() {

@@ -1,0 +1,33 @@
+// The agents on a held-out scene set: one CSV row per (agent, scene), then the paired BEST
+// summary (Markdown and CSVs) and the plots.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "occlusion_env/agents/episode.hpp"
+#include "occlusion_env/eval/evaluation.hpp"
+#include "occlusion_env/report/eval_options.hpp"
+
+namespace occlusion_env {
+namespace report {
+
+/// Runs `plan` with a progress bar on stderr, each episode a row of the CSV at `csv_path`.
+std::vector<EpisodeRecord> runPlanToCsv(const eval::EvaluationPlan& plan,
+                                        const std::string& csv_path);
+
+/// Summary Markdown (OUT/<name>_summary.md), BEST CSVs and plots of one scene-set run of the
+/// episodes `records` (read from or written to `episodes_csv`). Returns the Markdown.
+std::string writeSceneSetSummary(const EvalOptions& options,
+                                 const std::vector<EpisodeRecord>& records, const std::string& name,
+                                 const std::string& episodes_csv);
+
+/// The --scenes mode: the agents on the scene set at `scenes_path` (at most options.limit
+/// scenes), its episodes CSV and summary in options.out. Returns the summary's Markdown.
+std::string runSceneSet(const EvalOptions& options, const std::string& scenes_path);
+
+/// The --summarize mode: the summary and plots of the episodes in the CSV of an earlier run.
+void summarizeEpisodeCsv(const EvalOptions& options, const std::string& episodes_csv);
+
+}  // namespace report
+}  // namespace occlusion_env

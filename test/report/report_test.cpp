@@ -1,0 +1,96 @@
+// The evaluation report's pieces that need no episodes: links into the output folder, and the
+// Table 3 layout and PPO section read from the manifests of a source tree.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "occlusion_env/report/evaluation_report.hpp"
+#include "occlusion_env/report/model_report.hpp"
+
+namespace occlusion_env {
+namespace report {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(Report, LinksToOutputFilesGetThePrefix) {
+  const std::string markdown =
+      "![plot](sweep.png) [csv](set_episodes.csv) [page](strip.md) [doc](doc/images/x.png) "
+      "[web](http://example.org/a.png) [text](notes.txt)";
+  EXPECT_EQ(withLinkPrefix(markdown, "doc/evaluation/"),
+            "![plot](doc/evaluation/sweep.png) [csv](doc/evaluation/set_episodes.csv) "
+            "[page](doc/evaluation/strip.md) [doc](doc/images/x.png) "
+            "[web](http://example.org/a.png) [text](notes.txt)");
+}
+
+class ManifestTree : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() /
+            ("report_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "doc" / "training");
+    fs::create_directories(root_ / "models");
+    options_.source_dir = root_.string();
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  static nlohmann::json network(const std::string& variant, int size, double iou) {
+    return {{"kind", "multitask_unet"},
+            {"file", variant + ".pt"},
+            {"epoch", 7},
+            {"network", {{"variant", variant}, {"input_size", size}}},
+            {"training", {{"epochs", 10}, {"direction_loss", "mse"}}},
+            {"run", {{"minutes", 42.0}}},
+            {"validation", {{"val_iou", iou}, {"val_pixel_accuracy", 0.99}}}};
+  }
+  void write(const fs::path& path, const nlohmann::json& json) { std::ofstream(path) << json; }
+
+  fs::path root_;
+  EvalOptions options_;
+};
+
+TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenShippedThenPaper) {
+  write(root_ / "doc" / "training" / "a_sar.json", network("sar_unet", 64, 0.5));
+  write(root_ / "doc" / "training" / "b_unet.json", network("unet", 64, 0.4));
+  write(root_ / "doc" / "training" / "broken.json", "not a manifest");
+  write(root_ / "models" / "shipped64.json", network("r_unet", 64, 0.6));
+  const std::string table = networkSection(options_);
+  const auto unet = table.find("[b_unet](doc/training/b_unet.png) | unet | 64 | 7 / 10 | 42 min");
+  const auto sar = table.find("[a_sar](doc/training/a_sar.png) | sar_unet | 64");
+  const auto shipped = table.find("| shipped `r_unet` | r_unet | 64 |");
+  const auto paper = table.find("| paper: Base UNet |");
+  ASSERT_NE(unet, std::string::npos) << table;
+  ASSERT_NE(sar, std::string::npos) << table;
+  ASSERT_NE(shipped, std::string::npos) << table;
+  ASSERT_NE(paper, std::string::npos) << table;
+  EXPECT_LT(unet, sar);
+  EXPECT_LT(sar, shipped);
+  EXPECT_LT(shipped, paper);
+  EXPECT_NE(table.find("| 40.00 % |"), std::string::npos) << table;  // b_unet's IoU
+}
+
+TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {
+  EXPECT_EQ(policySection(options_), "");
+  write(root_ / "models" / "policy_x.json",
+        {{"kind", "ppo_policy"},
+         {"file", "policy_x.pt"},
+         {"env_steps", 1000},
+         {"trained_with", {{"reward", "union"}, {"policy", {{"rig_inputs", true}}}}},
+         {"training_end", {{"mean_steps", 12.5}, {"success_rate", 0.8}}},
+         {"validation", {{"mean_steps", 10.5}, {"std_steps", 3.0}, {"success_rate", 0.9}}}});
+  const std::string section = policySection(options_);
+  EXPECT_NE(section.find("training_episodes.csv"), std::string::npos);
+  EXPECT_NE(section.find("| `policy_x` | union | scratch | yes | 1000 | 12.5 | 80 % | 10.5 +/- 3.0 "
+                         "| 90 % |"),
+            std::string::npos)
+      << section;
+}
+
+}  // namespace
+}  // namespace report
+}  // namespace occlusion_env
