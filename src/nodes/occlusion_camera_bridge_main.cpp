@@ -15,10 +15,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, names::kCameraBridgeNode);
   ros::NodeHandle private_node("~");
   ros::NodeHandle node(names::kNamespace);
-  for (const std::string& name : occlusion_env::unknownParameters(
-           private_node, occlusion_env::cameraBridgeParameterNames())) {
-    ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
-  }
+  occlusion_env::warnAboutUnknownParameters(private_node, occlusion_env::cameraBridgeOptionTable());
   torch::set_num_threads(1);  // one image at a time: a second thread gains nothing at 64 x 64
   try {
     const auto options = occlusion_env::readCameraBridgeOptions(private_node);

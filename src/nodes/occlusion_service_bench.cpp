@@ -2,9 +2,8 @@
 // and step services (~timeout, default 60 s), times `steps` steps through them (the
 // EnvironmentClient every agent node uses: persistent connections) and the same steps on an
 // in-process Environment built from the simulator's own parameters, then prints both medians and
-// the difference. Exits 1, saying why, when it cannot measure. Private parameters: ~steps
-// (default 500), ~seed (default 1), ~timeout [s], ~simulator (the simulator node's name, default
-// /occlusion_sim, whose parameters give the options).
+// the difference. Exits 1, saying why, when it cannot measure. Private parameters:
+// serviceBenchOptionTable() (ros/service_probe_options.hpp; doc/PARAMETERS.md).
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -18,6 +17,7 @@
 #include "occlusion_env/ros/environment_client.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
+#include "occlusion_env/ros/service_probe_options.hpp"
 
 namespace {
 
@@ -53,19 +53,18 @@ std::vector<double> timeSteps(int steps, const std::function<void()>& reset,
 }
 
 int run(ros::NodeHandle& private_node, ros::NodeHandle& node) {
-  const int steps = private_node.param("steps", 500);
-  const int seed = private_node.param("seed", 1);
-  const double timeout_s = private_node.param("timeout", 60.0);
-  const std::string simulator = private_node.param<std::string>(
-      "simulator", std::string("/") + occlusion_env::names::kSimulatorNode);
-  if (steps < 2) throw std::invalid_argument("~steps must be >= 2");
+  occlusion_env::warnAboutUnknownParameters(private_node, occlusion_env::serviceBenchOptionTable());
+  occlusion_env::ServiceBenchOptions bench;
+  occlusion_env::readParameters(private_node, occlusion_env::serviceBenchOptionTable(), bench);
+  const int steps = bench.steps;
+  const int seed = bench.seed;
 
   // Every service it uses must be up before the first call: the simulator advertises them one
   // after the other, after its start-up reset.
-  occlusion_env::EnvironmentClient client(node, {timeout_s, /*reset_attempts=*/1});
+  occlusion_env::EnvironmentClient client(node, {bench.timeout_s, /*reset_attempts=*/1});
   client.connect();
   const occlusion_env::SimulatorOptions options =
-      occlusion_env::readSimulatorOptions(ros::NodeHandle(simulator));
+      occlusion_env::readSimulatorOptions(ros::NodeHandle(bench.simulator));
 
   // In-process: the same options, seed and action sequence.
   occlusion_env::Environment environment(options.environment);

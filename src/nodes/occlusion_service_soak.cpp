@@ -1,9 +1,8 @@
 // occlusion_service_soak: drives the running simulator through its services for many steps and
 // watches the simulator's resident memory and the step rate. Private parameters:
-//   ~steps (20000), ~reset_every (50), ~report_every (2000), ~warmup (1000) steps;
-//   ~check (false): exit 1 when the simulator's memory grew more than ~max_growth_mb (5) after
-//   warm-up, the last window's rate fell below ~min_rate_ratio (0.7) of the first's, or a request
-//   failed; ~simulator: the simulator node's name (default /occlusion_sim).
+// serviceSoakOptionTable() (ros/service_probe_options.hpp; doc/PARAMETERS.md): with ~check, exits
+// 1 when the simulator's memory grew more than ~max_growth_mb after warm-up, the last window's
+// rate fell below ~min_rate_ratio of the first's, or a request failed.
 // The simulator's PID comes from its ROS slave API (getPid); its memory is read from /proc, so
 // both must run on the same machine. The loop is the in-process soak's (eval/soak.hpp), here on
 // the services through EnvironmentClient.
@@ -18,6 +17,7 @@
 #include "occlusion_env/ros/environment_client.hpp"
 #include "occlusion_env/ros/names.hpp"
 #include "occlusion_env/ros/parameters.hpp"
+#include "occlusion_env/ros/service_probe_options.hpp"
 
 namespace {
 
@@ -45,26 +45,19 @@ int main(int argc, char** argv) {
   using namespace occlusion_env;
   ros::init(argc, argv, "occlusion_service_soak");
   ros::NodeHandle private_node("~");
-  eval::SoakOptions soak;
-  soak.total_steps = 20000;
-  soak.report_every = 2000;
-  bool check = false;
-  double max_growth_mib = 5.0, min_rate_ratio = 0.7;
-  std::string simulator = std::string("/") + names::kSimulatorNode;
+  ServiceSoakOptions options;
   try {
-    const ParameterReader reader(private_node);
-    reader.read("steps", soak.total_steps);
-    reader.read("reset_every", soak.reset_every);
-    reader.read("report_every", soak.report_every);
-    reader.read("warmup", soak.warmup);
-    reader.read("check", check);
-    reader.read("max_growth_mb", max_growth_mib);
-    reader.read("min_rate_ratio", min_rate_ratio);
-    reader.read("simulator", simulator);
+    readParameters(private_node, serviceSoakOptionTable(), options);
   } catch (const ParameterError& error) {
     ROS_FATAL_STREAM(error.what());
     return 2;
   }
+  warnAboutUnknownParameters(private_node, serviceSoakOptionTable());
+  eval::SoakOptions soak;
+  soak.total_steps = options.steps;
+  soak.reset_every = options.reset_every;
+  soak.report_every = options.report_every;
+  soak.warmup = options.warmup;
 
   EnvironmentClient client{ros::NodeHandle(names::kNamespace)};
   try {
@@ -73,9 +66,9 @@ int main(int argc, char** argv) {
     ROS_FATAL_STREAM("no simulator: " << error.what());
     return 1;
   }
-  const int pid = nodePid(simulator);
+  const int pid = nodePid(options.simulator);
   if (pid <= 0) {
-    ROS_FATAL_STREAM("cannot find the PID of " << simulator << " (set ~simulator)");
+    ROS_FATAL_STREAM("cannot find the PID of " << options.simulator << " (set ~simulator)");
     return 1;
   }
 
@@ -104,8 +97,8 @@ int main(int argc, char** argv) {
       "window %.1f/s, last %.1f/s (ratio %.2f)\n",
       r.steps, r.seconds, r.steps / r.seconds, r.failures, r.baseline_mib, r.end_mib, r.growthMiB(),
       r.first_rate, r.last_rate, r.rateRatio());
-  if (check && (r.failures > 0 || r.growthMiB() > max_growth_mib ||
-                r.last_rate < min_rate_ratio * r.first_rate)) {
+  if (options.check && (r.failures > 0 || r.growthMiB() > options.max_growth_mib ||
+                        r.last_rate < options.min_rate_ratio * r.first_rate)) {
     ROS_ERROR("soak check failed (failures, memory growth or rate decay beyond the limits)");
     return 1;
   }

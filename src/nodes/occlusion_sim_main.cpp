@@ -14,9 +14,7 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, names::kSimulatorNode);
   ros::NodeHandle private_node("~");
   ros::NodeHandle node(names::kNamespace);
-  for (const std::string& name : occlusion_env::unknownParameters(private_node)) {
-    ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
-  }
+  occlusion_env::warnAboutUnknownParameters(private_node, occlusion_env::simulatorOptionTable());
   try {
     // Built on this thread, which then spins alone: the GL context stays on one thread and
     // service calls are served one at a time, in order.

@@ -53,9 +53,7 @@ int runAgentNodeMain(int argc, char** argv, const AgentRegistry& registry) {
   ros::init(argc, argv, "agent_node");
   ros::NodeHandle private_node("~");
   ros::NodeHandle node(names::kNamespace);
-  for (const std::string& name : unknownParameters(private_node, agentNodeParameterNames())) {
-    ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
-  }
+  warnAboutUnknownParameters(private_node, agentNodeOptionTable());
   try {
     AgentNode agent_node(readAgentNodeOptions(private_node, registry), registry, node,
                          private_node);

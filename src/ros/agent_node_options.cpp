@@ -1,6 +1,5 @@
 #include "occlusion_env/ros/agent_node_options.hpp"
 
-#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -26,86 +25,95 @@ std::string underRosHome(const std::string& path) {
   return (base / path).string();
 }
 
+// The seeds, preset, categories and start pose of ~scene_set, unless ~seeds lists the seeds.
+void applySceneSet(const ros::NodeHandle& private_node, AgentNodeOptions& options) {
+  if (!options.seeds.empty() || options.scene_set_path.empty()) return;
+  SceneSet set;
+  try {
+    set = loadSceneSet(options.scene_set_path);
+  } catch (const std::exception& error) {
+    throw ParameterError("parameter " + private_node.resolveName("scene_set") + ": " +
+                         error.what());
+  }
+  options.seeds = set.seeds;
+  options.scene_set_name = set.name;
+  options.reset = resetOptionsFor(set);
+  ROS_INFO_STREAM("scene set " << set.name << " (" << set.seeds.size()
+                               << " seeds): run the simulator with catalog_source " << set.source
+                               << " and num_objects " << set.num_objects << " to get its scenes");
+}
+
 }  // namespace
+
+const OptionTable<AgentNodeOptions>& agentNodeOptionTable() {
+  using Options = AgentNodeOptions;
+  using Reset = ResetOptions;
+  const auto reset = [](auto member) {
+    return [member](Options & o) -> auto& {
+      return o.reset.*member;
+    };
+  };
+  static const auto table =
+      OptionTable<Options>()
+          .add("agent", &Options::agent,
+               OptionSpec("the agent, a registry name (occlusion_agents lists them); required"))
+          .add("model", &Options::model_path,
+               OptionSpec("the agent's model file; \"\" = its shipped model, if it needs one"))
+          .add("seeds", &Options::seeds,
+               OptionSpec("one episode per scene seed, in this order; [] = from scene_set or "
+                          "seed and episodes"))
+          .add("scene_set", &Options::scene_set_path,
+               OptionSpec("a scene-set YAML file (config/scenes/): its seeds, preset, "
+                          "categories and start pose; used when seeds is empty"))
+          .add("seed", &Options::first_seed,
+               OptionSpec("without seeds and scene_set: the first seed (seed, seed + 1, ...)")
+                   .atLeast(0))
+          .add("episodes", &Options::episodes,
+               OptionSpec("without seeds and scene_set: this many episodes").range(1, kMaxEpisodes))
+          .add(
+              "max_steps", &Options::max_steps,
+              OptionSpec("steps per episode at most (the simulator may end it earlier)").atLeast(1))
+          .add("start_azimuth", reset(&Reset::start_azimuth_rad),
+               OptionSpec("start azimuth of every episode; unset = the scene's own").unit("rad"))
+          .add("start_elevation", reset(&Reset::start_elevation_rad),
+               OptionSpec("start elevation of every episode; unset = the scene's own").unit("rad"))
+          .addChoice(
+              "preset", [](const Options& o) { return o.reset.preset.value_or(""); },
+              [](Options& o, const std::string& preset) {
+                o.reset.preset = preset.empty() ? std::nullopt : std::optional(preset);
+              },
+              OptionSpec("difficulty preset of every reset; \"\" = the simulator's own"))
+          .add("categories", reset(&Reset::categories),
+               OptionSpec("object categories of every reset; [] = the simulator's own"))
+          .add("csv", &Options::csv_path,
+               OptionSpec("one CSV row per episode; \"\" = none; relative = under ROS_HOME"))
+          .add("service_timeout", &Options::service_timeout_s,
+               OptionSpec("wait this long for the simulator's services; 0 = forever")
+                   .unit("s")
+                   .atLeast(0))
+          .add("step_rate", &Options::step_rate_hz,
+               OptionSpec("steps per second at most (to watch in rviz); 0 = no limit")
+                   .unit("Hz")
+                   .atLeast(0));
+  return table;
+}
 
 AgentNodeOptions readAgentNodeOptions(const ros::NodeHandle& private_node,
                                       const AgentRegistry& registry) {
-  const ParameterReader reader(private_node);
   AgentNodeOptions options;
-  reader.read("agent", options.agent);
+  readParameters(private_node, agentNodeOptionTable(), options);
   try {
     registry.at(options.agent);  // its message names the registered agents
   } catch (const InvalidArgumentError& error) {
-    throw ParameterError(reader.prefix("agent") + (options.agent.empty() ? " is not set: " : ": ") +
-                         error.what());
+    throw ParameterError("parameter " + private_node.resolveName("agent") +
+                         (options.agent.empty() ? " is not set: " : ": ") + error.what());
   }
-  reader.read("model", options.model_path);
-  reader.read("max_steps", options.max_steps);
-  reader.read("csv", options.csv_path);
   options.csv_path = underRosHome(options.csv_path);
-  reader.read("service_timeout", options.service_timeout_s);
-  reader.read("step_rate", options.step_rate_hz);
-  std::string preset;
-  reader.read("preset", preset);
-  if (!preset.empty()) options.reset.preset = preset;
-  reader.read("categories", options.reset.categories);
-  if (private_node.hasParam("start_azimuth")) {
-    double azimuth = 0.0;
-    reader.read("start_azimuth", azimuth);
-    options.reset.start_azimuth_rad = azimuth;
-  }
-  if (private_node.hasParam("start_elevation")) {
-    double elevation = 0.0;
-    reader.read("start_elevation", elevation);
-    options.reset.start_elevation_rad = elevation;
-  }
-
-  std::string scene_set_path;
-  reader.read("scene_set", scene_set_path);
-  reader.read("seeds", options.seeds);
-  if (options.seeds.empty() && !scene_set_path.empty()) {
-    SceneSet set;
-    try {
-      set = loadSceneSet(scene_set_path);
-    } catch (const std::exception& error) {
-      throw ParameterError(reader.prefix("scene_set") + ": " + error.what());
-    }
-    options.seeds = set.seeds;
-    options.scene_set_name = set.name;
-    options.reset = resetOptionsFor(set);
-    ROS_INFO_STREAM("scene set " << set.name << " (" << set.seeds.size()
-                                 << " seeds): run the simulator with catalog_source " << set.source
-                                 << " and num_objects " << set.num_objects << " to get its scenes");
-  }
+  applySceneSet(private_node, options);
   if (options.seeds.empty()) {
-    std::int64_t first_seed = 0;
-    int episodes = 10;
-    reader.read("seed", first_seed);
-    reader.read("episodes", episodes);
-    if (first_seed < 0) throw ParameterError(reader.prefix("seed") + " must be >= 0");
-    if (episodes < 1 || episodes > kMaxEpisodes) {
-      throw ParameterError(reader.prefix("episodes") + " must be in [1, " +
-                           std::to_string(kMaxEpisodes) + "]");
-    }
-    for (int i = 0; i < episodes; ++i) options.seeds.push_back(first_seed + i);
-  }
-
-  if (options.max_steps < 1) throw ParameterError(reader.prefix("max_steps") + " must be >= 1");
-  if (options.service_timeout_s < 0.0) {
-    throw ParameterError(reader.prefix("service_timeout") + " must be >= 0 (0 waits forever)");
-  }
-  if (options.step_rate_hz < 0.0) {
-    throw ParameterError(reader.prefix("step_rate") + " must be >= 0 (0: no limit)");
+    for (int i = 0; i < options.episodes; ++i) options.seeds.push_back(options.first_seed + i);
   }
   return options;
-}
-
-const std::vector<std::string>& agentNodeParameterNames() {
-  static const std::vector<std::string> kNames = {
-      "agent",      "model",     "seeds",           "scene_set",       "seed",
-      "episodes",   "max_steps", "start_azimuth",   "start_elevation", "preset",
-      "categories", "csv",       "service_timeout", "step_rate"};
-  return kNames;
 }
 
 }  // namespace occlusion_env

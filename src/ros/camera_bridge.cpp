@@ -50,80 +50,89 @@ cv::Rect centralSquare(int width, int height) {
 // Options
 // ---------------------------------------------------------------------------------------------
 
-void CameraBridgeOptions::validate() const {
-  const auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw ParameterError("camera bridge: " + what);
-  };
-  require(!sphere_frame.empty(), "sphere_frame must not be empty");
-  require(radius_m > 0.0, "radius must be > 0");
-  require(elevation_limit_rad >= 0.0 && elevation_limit_rad < M_PI / 2.0,
-          "elevation_limit must lie in [0, pi/2)");
-  require(step_size_rad > 0.0 && step_size_rad <= M_PI, "step_size must lie in (0, pi]");
-  require(max_steps >= 1, "max_steps must be >= 1");
-  require(position_tolerance_m > 0.0, "position_tolerance must be > 0");
-  require(angle_tolerance_rad > 0.0, "angle_tolerance must be > 0");
-  require(arrival_timeout_s > 0.0, "arrival_timeout must be > 0");
-  require(frame_timeout_s > 0.0, "frame_timeout must be > 0");
-  require(settle_time_s >= 0.0, "settle_time must be >= 0");
-  require(sync_slop_s >= 0.0, "sync_slop must be >= 0");
-  require(tf_poll_period_s > 0.0 && tf_poll_period_s <= 1.0, "tf_poll_period must lie in (0, 1]");
-  require(occlusion_probability > 0.0 && occlusion_probability < 1.0,
-          "occlusion_probability must lie in (0, 1)");
-  require(occlusion_threshold_px >= 0, "occlusion_threshold must be >= 0");
-  require(confirm_views >= 1, "confirm_views must be >= 1");
+const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
+  using Options = CameraBridgeOptions;
+  static const auto table =
+      OptionTable<Options>()
+          .add("sphere_frame", &Options::sphere_frame,
+               OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
+                          "about its z from its x, elevation above its xy plane; not empty"))
+          .add("optical_frame", &Options::optical_frame,
+               OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"))
+          .add("radius", &Options::radius_m,
+               OptionSpec("the camera stays this far from the centre").unit("m").above(0))
+          .add("elevation_limit", &Options::elevation_limit_rad,
+               OptionSpec("goals are clamped to +/- this elevation (80 deg)")
+                   .unit("rad")
+                   .atLeast(0)
+                   .below(M_PI / 2.0))
+          .add("step_size", &Options::step_size_rad,
+               OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
+          .add("normalize_action", &Options::normalize_action,
+               OptionSpec("true: each step moves exactly step_size along the action; false: the "
+                          "action as given, clipped to length step_size"))
+          .add("max_steps", &Options::max_steps,
+               OptionSpec("steps before an episode is truncated").atLeast(1))
+          .add("position_tolerance", &Options::position_tolerance_m,
+               OptionSpec("the camera has arrived when tf shows it this close to the goal ...")
+                   .unit("m")
+                   .above(0))
+          .add("angle_tolerance", &Options::angle_tolerance_rad,
+               OptionSpec("... and this close in orientation").unit("rad").above(0))
+          .add("arrival_timeout", &Options::arrival_timeout_s,
+               OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
+          .add(
+              "frame_timeout", &Options::frame_timeout_s,
+              OptionSpec("no frame this long after arrival fails (UNAVAILABLE)").unit("s").above(0))
+          .add("settle_time", &Options::settle_time_s,
+               OptionSpec("frames stamped less than this after arrival are not used (motion "
+                          "blur, a robot that rings after it stops)")
+                   .unit("s")
+                   .atLeast(0))
+          .add("sync_slop", &Options::sync_slop_s,
+               OptionSpec("RGB, depth and camera_info stamped within this are one frame")
+                   .unit("s")
+                   .atLeast(0))
+          .add(
+              "tf_poll_period", &Options::tf_poll_period_s,
+              OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1))
+          .add("square_crop", &Options::square_crop,
+               OptionSpec("agents get the central square of the images (as trained); "
+                          "camera_info's principal point is moved to match"))
+          .add("scene_service", &Options::scene_service,
+               OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
+                          "scene at every reset"))
+          .add("model", &Options::model_path,
+               OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
+                          "else a multi-task network (.pt with its .json) whose occlusion map is "
+                          "the ESTIMATED occlusion"))
+          .add("occlusion_probability", &Options::occlusion_probability,
+               OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
+          .add("occlusion_threshold", &Options::occlusion_threshold_px,
+               OptionSpec("a view whose estimate is at or below this is clear")
+                   .unit("px")
+                   .atLeast(0))
+          .add("confirm_views", &Options::confirm_views,
+               OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
+          .add(
+              "success_bonus", &Options::success_bonus,
+              OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
+          .add("step_penalty", &Options::step_penalty, OptionSpec("reward P of the other steps"));
+  return table;
 }
 
-const std::vector<std::string>& cameraBridgeParameterNames() {
-  static const std::vector<std::string> kNames = {"sphere_frame",
-                                                  "optical_frame",
-                                                  "radius",
-                                                  "elevation_limit",
-                                                  "step_size",
-                                                  "normalize_action",
-                                                  "max_steps",
-                                                  "position_tolerance",
-                                                  "angle_tolerance",
-                                                  "arrival_timeout",
-                                                  "frame_timeout",
-                                                  "settle_time",
-                                                  "sync_slop",
-                                                  "tf_poll_period",
-                                                  "square_crop",
-                                                  "scene_service",
-                                                  "model",
-                                                  "occlusion_probability",
-                                                  "occlusion_threshold",
-                                                  "confirm_views",
-                                                  "success_bonus",
-                                                  "step_penalty"};
-  return kNames;
+void CameraBridgeOptions::validate() const {
+  try {
+    cameraBridgeOptionTable().check(*this);
+  } catch (const InvalidArgumentError& error) {
+    throw ParameterError(std::string("camera bridge: ") + error.what());
+  }
+  if (sphere_frame.empty()) throw ParameterError("camera bridge: sphere_frame must not be empty");
 }
 
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
-  const ParameterReader reader(private_node);
   CameraBridgeOptions options;
-  reader.read("sphere_frame", options.sphere_frame);
-  reader.read("optical_frame", options.optical_frame);
-  reader.read("radius", options.radius_m);
-  reader.read("elevation_limit", options.elevation_limit_rad);
-  reader.read("step_size", options.step_size_rad);
-  reader.read("normalize_action", options.normalize_action);
-  reader.read("max_steps", options.max_steps);
-  reader.read("position_tolerance", options.position_tolerance_m);
-  reader.read("angle_tolerance", options.angle_tolerance_rad);
-  reader.read("arrival_timeout", options.arrival_timeout_s);
-  reader.read("frame_timeout", options.frame_timeout_s);
-  reader.read("settle_time", options.settle_time_s);
-  reader.read("sync_slop", options.sync_slop_s);
-  reader.read("tf_poll_period", options.tf_poll_period_s);
-  reader.read("square_crop", options.square_crop);
-  reader.read("scene_service", options.scene_service);
-  reader.read("model", options.model_path);
-  reader.read("occlusion_probability", options.occlusion_probability);
-  reader.read("occlusion_threshold", options.occlusion_threshold_px);
-  reader.read("confirm_views", options.confirm_views);
-  reader.read("success_bonus", options.success_bonus);
-  reader.read("step_penalty", options.step_penalty);
+  readParameters(private_node, cameraBridgeOptionTable(), options);
   try {
     options.validate();
   } catch (const ParameterError& error) {

@@ -1,11 +1,9 @@
 #include "occlusion_env/ros/parameters.hpp"
 
+#include <ros/console.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-#include <sstream>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/ros/names.hpp"
@@ -32,121 +30,7 @@ std::string typeName(const XmlRpc::XmlRpcValue& value) {
   }
 }
 
-[[noreturn]] void throwWrongType(const ros::NodeHandle& node, const std::string& name,
-                                 const std::string& expected, const XmlRpc::XmlRpcValue& value) {
-  std::ostringstream message;
-  message << "parameter " << node.resolveName(name) << " must be " << expected << ", got "
-          << typeName(value);
-  throw ParameterError(message.str());
-}
-
 }  // namespace
-
-ParameterReader::ParameterReader(const ros::NodeHandle& node) : node_(node) {}
-
-bool ParameterReader::get(const std::string& name, XmlRpc::XmlRpcValue& value) const {
-  return node_.hasParam(name) && node_.getParam(name, value);
-}
-
-std::string ParameterReader::prefix(const std::string& name) const {
-  return "parameter " + node_.resolveName(name);
-}
-
-void ParameterReader::read(const std::string& name, bool& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  if (value.getType() != XmlRpc::XmlRpcValue::TypeBoolean) {
-    throwWrongType(node_, name, "true or false", value);
-  }
-  out = static_cast<bool>(value);
-}
-
-void ParameterReader::read(const std::string& name, double& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble) {
-    out = static_cast<double>(value);
-  } else if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) {
-    out = static_cast<int>(value);
-  } else {
-    throwWrongType(node_, name, "a number", value);
-  }
-  if (!std::isfinite(out)) throwWrongType(node_, name, "a finite number", value);
-}
-
-void ParameterReader::read(const std::string& name, std::int64_t& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  out = integerValue(name, value);
-}
-
-std::int64_t ParameterReader::integerValue(const std::string& name,
-                                           XmlRpc::XmlRpcValue& value) const {
-  // XML-RPC integers are 32-bit; larger values arrive as doubles, accepted when integral.
-  if (value.getType() == XmlRpc::XmlRpcValue::TypeInt) return static_cast<int>(value);
-  if (value.getType() == XmlRpc::XmlRpcValue::TypeDouble &&
-      std::trunc(static_cast<double>(value)) == static_cast<double>(value) &&
-      std::abs(static_cast<double>(value)) < 9.0e15) {
-    return static_cast<std::int64_t>(static_cast<double>(value));
-  }
-  throwWrongType(node_, name, "an integer", value);
-}
-
-void ParameterReader::read(const std::string& name, int& out) const {
-  std::int64_t wide = out;
-  read(name, wide);
-  if (wide < std::numeric_limits<int>::min() || wide > std::numeric_limits<int>::max()) {
-    throw ParameterError(prefix(name) + " is out of range");
-  }
-  out = static_cast<int>(wide);
-}
-
-void ParameterReader::read(const std::string& name, std::size_t& out) const {
-  std::int64_t wide = static_cast<std::int64_t>(out);
-  read(name, wide);
-  if (wide < 0) throw ParameterError(prefix(name) + " must be >= 0");
-  out = static_cast<std::size_t>(wide);
-}
-
-void ParameterReader::read(const std::string& name, std::string& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  if (value.getType() != XmlRpc::XmlRpcValue::TypeString) {
-    throwWrongType(node_, name, "a string", value);
-  }
-  out = static_cast<std::string>(value);
-}
-
-void ParameterReader::read(const std::string& name, std::vector<std::string>& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) {
-    throwWrongType(node_, name, "a list of strings", value);
-  }
-  std::vector<std::string> strings;
-  for (int i = 0; i < value.size(); ++i) {
-    if (value[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
-      throwWrongType(node_, name, "a list of strings", value[i]);
-    }
-    strings.push_back(static_cast<std::string>(value[i]));
-  }
-  out = std::move(strings);
-}
-
-void ParameterReader::read(const std::string& name, std::vector<std::uint64_t>& out) const {
-  XmlRpc::XmlRpcValue value;
-  if (!get(name, value)) return;
-  if (value.getType() != XmlRpc::XmlRpcValue::TypeArray) {
-    throwWrongType(node_, name, "a list of integers", value);
-  }
-  std::vector<std::uint64_t> integers;
-  for (int i = 0; i < value.size(); ++i) {
-    const std::int64_t integer = integerValue(name, value[i]);
-    if (integer < 0) throw ParameterError(prefix(name) + ": values must be >= 0");
-    integers.push_back(static_cast<std::uint64_t>(integer));
-  }
-  out = std::move(integers);
-}
 
 nlohmann::json parameterJson(const std::string& name, const XmlRpc::XmlRpcValue& value) {
   XmlRpc::XmlRpcValue& mutable_value = const_cast<XmlRpc::XmlRpcValue&>(value);  // read only
@@ -203,10 +87,6 @@ const OptionTable<SimulatorOptions>& simulatorOptionTable() {
   return table;
 }
 
-std::vector<std::string> simulatorParameterNames() {
-  return simulatorOptionTable().keys();
-}
-
 SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   SimulatorOptions options;
   readParameters(private_node, simulatorOptionTable(), options);
@@ -226,10 +106,6 @@ SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
   return options;
 }
 
-std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node) {
-  return unknownParameters(private_node, simulatorParameterNames());
-}
-
 std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
                                            const std::vector<std::string>& known) {
   std::vector<std::string> all_names;
@@ -244,6 +120,13 @@ std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
     if (std::find(known.begin(), known.end(), head) == known.end()) unknown.push_back(name);
   }
   return unknown;
+}
+
+void warnAboutUnknownParameters(const ros::NodeHandle& private_node,
+                                const std::vector<std::string>& known) {
+  for (const std::string& name : unknownParameters(private_node, known)) {
+    ROS_WARN_STREAM("unknown parameter " << private_node.resolveName(name) << " is ignored");
+  }
 }
 
 }  // namespace occlusion_env

@@ -128,8 +128,7 @@ TEST(AgentNodes, ParametersAreValidatedWithTheirNames) {
 
   node.setParam("episodes", 2);
   node.setParam("max_step", 10);
-  EXPECT_EQ(unknownParameters(node, agentNodeParameterNames()),
-            std::vector<std::string>{"max_step"});
+  EXPECT_EQ(unknownParameters(node, agentNodeOptionTable()), std::vector<std::string>{"max_step"});
   ros::param::del("/agent_parameter_test");
 }
 

@@ -3,12 +3,12 @@
 // bridge's and stand-in camera's documented defaults.
 #include <gtest/gtest.h>
 #include <sensor_msgs/image_encodings.h>
-#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstring>
 #include <string>
 
+#include "common/yaml_defaults.hpp"
 #include "occlusion_env/ros/camera_bridge.hpp"
 #include "occlusion_env/ros/msg_conversion.hpp"
 #include "occlusion_env/ros/parameters.hpp"
@@ -100,49 +100,16 @@ TEST(ObservationViewTest, MasksACameraCannotGiveStayEmpty) {
   EXPECT_THROW(viewObservation(message, observation, info), std::invalid_argument);
 }
 
-TEST(ShippedRosConfigTest, CameraBridgeYamlStatesTheDefaults) {
-  const YAML::Node yaml =
-      YAML::LoadFile(std::string(OCCLUSION_ENV_SOURCE_DIR) + "/config/camera_bridge.yaml");
-  const CameraBridgeOptions defaults;
-  EXPECT_EQ(yaml["sphere_frame"].as<std::string>(), defaults.sphere_frame);
-  EXPECT_EQ(yaml["optical_frame"].as<std::string>(), defaults.optical_frame);
-  EXPECT_DOUBLE_EQ(yaml["radius"].as<double>(), defaults.radius_m);
-  EXPECT_NEAR(yaml["elevation_limit"].as<double>(), defaults.elevation_limit_rad, 1e-9);
-  EXPECT_DOUBLE_EQ(yaml["step_size"].as<double>(), defaults.step_size_rad);
-  EXPECT_EQ(yaml["normalize_action"].as<bool>(), defaults.normalize_action);
-  EXPECT_EQ(yaml["max_steps"].as<int>(), defaults.max_steps);
-  EXPECT_DOUBLE_EQ(yaml["position_tolerance"].as<double>(), defaults.position_tolerance_m);
-  EXPECT_DOUBLE_EQ(yaml["angle_tolerance"].as<double>(), defaults.angle_tolerance_rad);
-  EXPECT_DOUBLE_EQ(yaml["arrival_timeout"].as<double>(), defaults.arrival_timeout_s);
-  EXPECT_DOUBLE_EQ(yaml["frame_timeout"].as<double>(), defaults.frame_timeout_s);
-  EXPECT_DOUBLE_EQ(yaml["settle_time"].as<double>(), defaults.settle_time_s);
-  EXPECT_DOUBLE_EQ(yaml["sync_slop"].as<double>(), defaults.sync_slop_s);
-  EXPECT_DOUBLE_EQ(yaml["tf_poll_period"].as<double>(), defaults.tf_poll_period_s);
-  EXPECT_EQ(yaml["square_crop"].as<bool>(), defaults.square_crop);
-  EXPECT_EQ(yaml["scene_service"].as<std::string>(), defaults.scene_service);
-  EXPECT_EQ(yaml["model"].as<std::string>(), defaults.model_path);
-  EXPECT_DOUBLE_EQ(yaml["occlusion_probability"].as<double>(), defaults.occlusion_probability);
-  EXPECT_EQ(yaml["occlusion_threshold"].as<std::int64_t>(), defaults.occlusion_threshold_px);
-  EXPECT_EQ(yaml["confirm_views"].as<int>(), defaults.confirm_views);
-  EXPECT_DOUBLE_EQ(yaml["success_bonus"].as<double>(), defaults.success_bonus);
-  EXPECT_DOUBLE_EQ(yaml["step_penalty"].as<double>(), defaults.step_penalty);
-  // Every key is a parameter the bridge reads, and every parameter is documented.
-  EXPECT_EQ(yaml.size(), cameraBridgeParameterNames().size());
-  for (const std::string& name : cameraBridgeParameterNames()) EXPECT_TRUE(yaml[name]) << name;
+TEST(ShippedRosConfigTest, CameraBridgeYamlStatesEveryOptionWithItsDefault) {
+  testing_support::expectYamlStatesDefaults(
+      std::string(OCCLUSION_ENV_SOURCE_DIR) + "/config/camera_bridge.yaml",
+      cameraBridgeOptionTable().toJson(CameraBridgeOptions()), /*only_these=*/true);
 }
 
-TEST(ShippedRosConfigTest, SimYamlStatesTheStandInCameraDefaults) {
-  const YAML::Node yaml =
-      YAML::LoadFile(std::string(OCCLUSION_ENV_SOURCE_DIR) + "/config/sim.yaml");
-  const SimulatorOptions defaults;
-  EXPECT_EQ(yaml["mode"].as<std::string>(), defaults.mode);
-  EXPECT_DOUBLE_EQ(yaml["camera_rate"].as<double>(), defaults.camera_rate_hz);
-  EXPECT_DOUBLE_EQ(yaml["motion_time"].as<double>(), defaults.motion_time_s);
-  EXPECT_EQ(yaml["depth_encoding"].as<std::string>(), defaults.depth_encoding);
-  EXPECT_DOUBLE_EQ(yaml["tf_rate"].as<double>(), defaults.tf_rate_hz);
-  EXPECT_EQ(yaml["offer_gradient"].as<bool>(), defaults.offer_gradient);
-  EXPECT_EQ(yaml.size(), simulatorParameterNames().size());
-  for (const std::string& name : simulatorParameterNames()) EXPECT_TRUE(yaml[name]) << name;
+TEST(ShippedRosConfigTest, SimYamlStatesEverySimulatorOptionWithItsDefault) {
+  testing_support::expectYamlStatesDefaults(
+      std::string(OCCLUSION_ENV_SOURCE_DIR) + "/config/sim.yaml",
+      simulatorOptionTable().toJson(SimulatorOptions()), /*only_these=*/true);
 }
 
 TEST(CameraBridgeOptionsTest, BadValuesAreRefusedByName) {

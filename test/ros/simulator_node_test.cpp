@@ -522,7 +522,7 @@ TEST(SimulatorNode, ParametersAreValidatedWithTheirNames) {
   const SimulatorOptions options = readSimulatorOptions(node);
   EXPECT_EQ(options.environment.width, 128);
   EXPECT_EQ(options.environment.reward.normalization, RewardNormalization::kNone);
-  EXPECT_EQ(unknownParameters(node), std::vector<std::string>{"widht"});
+  EXPECT_EQ(unknownParameters(node, simulatorOptionTable()), std::vector<std::string>{"widht"});
   ros::param::del("/parameter_validation_test");
 }
 

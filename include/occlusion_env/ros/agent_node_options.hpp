@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
 
 namespace occlusion_env {
@@ -16,6 +17,9 @@ struct AgentNodeOptions {
   std::string agent;                 // a registry name (~agent)
   std::string model_path;            // ~model: "" = the agent's shipped model, if it needs one
   std::vector<std::uint64_t> seeds;  // one episode per scene seed, in this order
+  std::string scene_set_path;        // ~scene_set: a scene-set YAML file when ~seeds is empty
+  std::int64_t first_seed = 0;       // ~seed: without seeds and scene set, seeds seed, seed + 1..
+  int episodes = 10;                 // ~episodes: ... this many of them
   int max_steps = 50;                // steps per episode at most (the simulator may end it earlier)
   ResetOptions reset;                // preset, categories and start pose of every reset
   std::string scene_set_name = "ros";  // the records' scene_set
@@ -24,14 +28,14 @@ struct AgentNodeOptions {
   double step_rate_hz = 0.0;           // steps per second at most (to watch in rviz); 0 = no limit
 };
 
+/// The agent node's parameters (names relative to its private namespace).
+const OptionTable<AgentNodeOptions>& agentNodeOptionTable();
+
 /// Reads the node's options from `private_node`. ~agent must name an agent of `registry`. The
 /// seeds come from ~seeds (a list), else from ~scene_set (a scene-set YAML file, which also fixes
 /// preset, categories and start pose), else from ~seed and ~episodes (seeds seed, seed + 1, ...).
 /// Throws ParameterError naming the parameter on a missing, wrong-typed or bad value.
 AgentNodeOptions readAgentNodeOptions(const ros::NodeHandle& private_node,
                                       const AgentRegistry& registry);
-
-/// Every parameter name readAgentNodeOptions() reads, relative to the private namespace.
-const std::vector<std::string>& agentNodeParameterNames();
 
 }  // namespace occlusion_env

@@ -32,6 +32,7 @@
 
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 
 namespace occlusion_env {
@@ -73,13 +74,15 @@ struct CameraBridgeOptions {
   double success_bonus = 5.0;  // the reward of the estimate: (L_{t-1} - L_t) / max(1, L_0) + P
   double step_penalty = -0.2;
 
-  /// Throws ParameterError naming the first bad option.
+  /// Throws ParameterError naming the first bad option (the table's ranges, and a sphere_frame).
   void validate() const;
 };
 
+/// The bridge's parameters (names relative to its private namespace; config/camera_bridge.yaml).
+const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable();
+
 /// Reads every option from the node's private namespace; absent parameters keep their defaults.
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
-const std::vector<std::string>& cameraBridgeParameterNames();
 
 class CameraBridge {
  public:

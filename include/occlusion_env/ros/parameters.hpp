@@ -1,5 +1,5 @@
 // ROS parameters read through option tables (common/option_table.hpp), and the simulator's
-// options (defaults and meanings: config/sim.yaml, doc/USER_GUIDE.md).
+// options (defaults and meanings: config/sim.yaml, doc/PARAMETERS.md).
 #pragma once
 
 #include <ros/node_handle.h>
@@ -47,31 +47,6 @@ void readParameters(const ros::NodeHandle& node, const OptionTable<Options>& tab
   }
 }
 
-/// Reads typed parameters relative to a NodeHandle. Each read() leaves `out` unchanged when the
-/// parameter is not set and throws ParameterError, naming the parameter, on a wrong type.
-class ParameterReader {
- public:
-  explicit ParameterReader(const ros::NodeHandle& node);
-
-  void read(const std::string& name, bool& out) const;
-  void read(const std::string& name, double& out) const;  // finite
-  void read(const std::string& name, std::int64_t& out) const;
-  void read(const std::string& name, int& out) const;
-  void read(const std::string& name, std::size_t& out) const;  // >= 0
-  void read(const std::string& name, std::string& out) const;
-  void read(const std::string& name, std::vector<std::string>& out) const;
-  void read(const std::string& name, std::vector<std::uint64_t>& out) const;  // each >= 0
-
-  /// "parameter <resolved name>", the start of every error message about `name`.
-  std::string prefix(const std::string& name) const;
-
- private:
-  bool get(const std::string& name, XmlRpc::XmlRpcValue& value) const;
-  std::int64_t integerValue(const std::string& name, XmlRpc::XmlRpcValue& value) const;
-
-  const ros::NodeHandle& node_;
-};
-
 /// Everything SimulatorNode needs besides its NodeHandles.
 struct SimulatorOptions {
   EnvironmentOptions environment;
@@ -109,18 +84,30 @@ void resetAtStartUp(std::int64_t start_seed, ResetHandler&& reset) {
 /// defaults. Throws ParameterError naming the first parameter of the wrong type or value.
 SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node);
 
-/// Names (relative to `private_node`) of parameters set there that the simulator does not read:
-/// usually typos.
-std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node);
-
-/// Names (relative to `private_node`) of parameters set there that are not in `known`.
+/// Names (relative to `private_node`) of parameters set there that are not in `known`: usually
+/// typos.
 std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
                                            const std::vector<std::string>& known);
 
+/// Names (relative to `private_node`) of parameters set there that `table` does not declare.
+template <class Options>
+std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
+                                           const OptionTable<Options>& table) {
+  return unknownParameters(private_node, table.keys());
+}
+
+/// Logs a warning for each parameter set under `private_node` that is not in `known`.
+void warnAboutUnknownParameters(const ros::NodeHandle& private_node,
+                                const std::vector<std::string>& known);
+
+/// Logs a warning for each parameter set under `private_node` that `table` does not declare.
+template <class Options>
+void warnAboutUnknownParameters(const ros::NodeHandle& private_node,
+                                const OptionTable<Options>& table) {
+  warnAboutUnknownParameters(private_node, table.keys());
+}
+
 /// The simulator node's parameters: every EnvironmentOptions option, then the node's own.
 const OptionTable<SimulatorOptions>& simulatorOptionTable();
-
-/// Every parameter name readSimulatorOptions() reads, relative to the private namespace.
-std::vector<std::string> simulatorParameterNames();
 
 }  // namespace occlusion_env
