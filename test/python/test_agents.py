@@ -42,3 +42,19 @@ def test_agents_that_read_the_simulation_need_the_env():
         observation, _, terminated, truncated, info = env.step(oracle(observation))
         done = terminated or truncated
     assert terminated and info["occlusion_pixels"] < start
+
+
+def test_only_the_agents_module_loads_libtorch():
+    import subprocess
+    import sys
+
+    script = (
+        "import occlusion_env\n"
+        "occlusion_env.make(width=64, height=64).reset(seed=1)\n"
+        "before = 'libtorch' in open('/proc/self/maps').read()\n"
+        "from occlusion_env import agents\n"
+        "after = 'libtorch' in open('/proc/self/maps').read()\n"
+        "print(before, after)\n")
+    output = subprocess.run([sys.executable, "-c", script], check=True, capture_output=True,
+                            text=True, timeout=120).stdout.split()
+    assert output == ["False", "True"]
