@@ -190,3 +190,22 @@ def test_stand_in_spaces_behave_like_gymnasiums():
     assert np.array([np.nan, 0], np.float32) not in box
     assert np.array([2, 0], np.float32) not in box
     assert np.zeros(2, np.float64) not in box  # float64 cannot be cast to float32 safely
+
+
+def test_another_thread_gets_an_exception_not_a_crash(env):
+    import threading
+
+    errors = []
+
+    def reset_elsewhere():
+        try:
+            env.reset(seed=1)
+        except occlusion_env.RenderError as error:
+            errors.append(error)
+
+    thread = threading.Thread(target=reset_elsewhere)
+    thread.start()
+    thread.join()
+    assert len(errors) == 1 and "thread" in str(errors[0])
+    observation, _ = env.reset(seed=1)  # the owning thread carries on
+    assert observation in env.observation_space
