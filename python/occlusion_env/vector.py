@@ -28,6 +28,8 @@ class OcclusionVectorEnv(_gym.BaseVectorEnv):
     rewrites in place; ``copy=True`` returns copies. Rewards, terminations, truncations and info
     are always new arrays. ``reset(seed=s)`` resets environment i with seed s + i (as
     Gymnasium's SyncVectorEnv does), so it shows the scene ``make().reset(seed=s + i)`` shows.
+    An exception from one simulator (raised after all have answered) leaves the others stepped;
+    step() then raises InvalidStateError until reset().
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10, "autoreset_mode": _gym.NEXT_STEP}
@@ -83,9 +85,15 @@ class OcclusionVectorEnv(_gym.BaseVectorEnv):
                 f"the actions must have shape ({self.num_envs}, 2), got {actions.shape}"
             )
         kinds = np.where(self._autoreset, _RESET, _STEP).astype(np.int8)
+        if not np.all(np.isfinite(actions[~self._autoreset])):  # resetting ones are ignored
+            raise InvalidArgumentError(f"the actions must be finite, got {actions.tolist()}")
         for i in np.flatnonzero(self._autoreset):
             self._scene_seeds[i] = self._draw_scene_seed(i)
-        self._run(kinds, {}, actions)
+        try:
+            self._run(kinds, {}, actions)
+        except Exception:
+            self._has_reset = False  # some simulators moved, some did not: reset first
+            raise
         terminated = self._arrays["terminated"].copy()
         truncated = self._arrays["truncated"].copy()
         self._autoreset = terminated | truncated

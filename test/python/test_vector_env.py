@@ -74,6 +74,8 @@ def test_bad_actions_and_order(envs):
         fresh.step(np.zeros((3, 2)))
     with pytest.raises(ValueError, match="finite"):
         fresh.step(np.array([[0.0, 0.0], [np.inf, 0.0]]))
+    _, _, _, _, infos = fresh.step(np.zeros((2, 2)))  # the refused step moved nothing
+    assert list(infos["step_index"]) == [1, 1]
     fresh.close()
     fresh.close()
     with pytest.raises(occlusion_env.InvalidStateError, match="closed"):
