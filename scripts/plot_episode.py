@@ -69,6 +69,8 @@ def plot(frames, infos, rewards, solved, columns, title, out):
     path.plot(azimuth[-1:], elevation[-1:], "r*", markersize=12, label="end")
     path.set_xlabel("azimuth [deg]")
     path.set_ylabel("elevation [deg]")
+    path.yaxis.set_label_position("right")  # clear of the reward axis on the left
+    path.yaxis.tick_right()
     path.legend(fontsize=8)
     outcome = "solved" if solved else "not solved"
     figure.suptitle(f"{title}: {outcome} after {len(frames) - 1} steps "
