@@ -35,6 +35,11 @@ packages=(
   sweethome3d-furniture jags
   # evaluation plots (scripts/plot_evaluation.py)
   python3-matplotlib
+  # the Python package occlusion_env (doc/PYTHON.md): its pybind11 modules, numpy, rospy for the
+  # ROS-backed environment, pytest for its tests, torch for the PPO example
+  pybind11-dev python3-pybind11 python3-dev python3-setuptools python3-numpy python3-rospy
+  python3-pytest
+  python3-torch
 )
 if [[ "${1:-}" == "--with-viz" ]]; then
   packages+=(rviz xvfb x11-apps imagemagick)

@@ -1,0 +1,124 @@
+// occlusion_env._agents: the agent registry with the learned agents (libtorch) for Python, kept
+// apart from _core so that `import occlusion_env` does not load libtorch; only
+// occlusion_env.agents imports this module.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "observation_views.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
+#include "python_environment.hpp"
+
+namespace py = pybind11;
+using namespace occlusion_env;
+using namespace occlusion_env::python;
+
+namespace {
+
+/// The environment of an agent made without one: agents that act on the observations they are
+/// given (learned, random) never call it.
+class ObservationsOnly : public EnvironmentInterface {
+ public:
+  StepResult reset(std::uint64_t, const ResetOptions&) override { throw refusal(); }
+  StepResult step(const Action&) override { throw refusal(); }
+  std::string describe() const override { return "observations given by Python"; }
+
+ private:
+  static InvalidStateError refusal() {
+    return InvalidStateError("an agent made without env= cannot reset or step an environment");
+  }
+};
+
+const AgentRegistry& registry() {
+  static const AgentRegistry agents = learning::learningAgents();
+  return agents;
+}
+
+/// An agent called with observations in Python's encoding; answers actions in [-1, 1] units of
+/// step_size that the environment turns into the very move the agent chose.
+class PythonAgent {
+ public:
+  PythonAgent(const std::string& name, const std::string& model_path, py::object environment,
+              double step_size_rad, bool normalize_action)
+      : environment_owner_(std::move(environment)),
+        step_size_rad_(step_size_rad),
+        normalize_action_(normalize_action) {
+    EnvironmentInterface* target = nullptr;
+    if (environment_owner_.is_none()) {
+      detached_ = std::make_unique<ObservationsOnly>();
+      target = detached_.get();
+    } else {
+      target = &environment_owner_.cast<PythonEnvironment&>().environment();
+    }
+    agent_ = registry().make(name, AgentContext{*target, model_path});
+  }
+
+  void reset(std::uint64_t seed) { agent_->reset(seed); }
+
+  py::array_t<float> act(const py::dict& observation) {
+    for (const char* key : {"rgb", "depth", "pose"}) {
+      if (!observation.contains(key)) {
+        throw InvalidArgumentError(std::string("the observation has no '") + key + "'");
+      }
+    }
+    observation_.rgb = rgbFromNumpy(observation["rgb"].cast<py::array>());
+    depthFromNumpy(observation["depth"].cast<py::array>(), depth_);
+    observation_.depth = depth_;
+    const auto pose = py::array_t<double, py::array::forcecast>::ensure(observation["pose"]);
+    if (!pose || pose.size() != 2) throw InvalidArgumentError("pose must hold 2 numbers");
+    StepInfo info;
+    info.pose = {pose.at(0), pose.at(1)};
+    Action move;
+    {
+      py::gil_scoped_release release;
+      move = cameraMoveFor(agent_->act(observation_, info), step_size_rad_, normalize_action_);
+    }
+    py::array_t<float> action(2);
+    action.mutable_at(0) = static_cast<float>(move.d_azimuth_rad / step_size_rad_);
+    action.mutable_at(1) = static_cast<float>(move.d_elevation_rad / step_size_rad_);
+    return action;
+  }
+
+ private:
+  py::object environment_owner_;  // keeps the environment of a reference agent alive
+  std::unique_ptr<EnvironmentInterface> detached_;
+  std::unique_ptr<Agent> agent_;
+  double step_size_rad_;
+  bool normalize_action_;
+  Observation observation_;
+  cv::Mat depth_;  // the core's encoding of the last depth (NaN = nothing hit)
+};
+
+py::list entries() {
+  py::list list;
+  for (const AgentEntry& entry : registry().entries()) {
+    py::dict item;
+    item["name"] = entry.name;
+    item["summary"] = entry.summary;
+    item["needs_simulator"] = entry.needs.occlusion_gradient || entry.needs.simulation;
+    item["needs_model_file"] = entry.needs.model_file;
+    item["default_model_path"] = entry.default_model_path;
+    item["competes"] = entry.competes;
+    list.append(item);
+  }
+  return list;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_agents, m) {
+  m.doc() = "The agents of occlusion_env with the learned ones (use occlusion_env.agents)";
+  py::module_::import("occlusion_env._core");  // its exception types and Environment
+  m.def("entries", &entries, "Every registered agent: name, summary, needs.");
+  py::class_<PythonAgent>(m, "Agent")
+      .def(py::init<const std::string&, const std::string&, py::object, double, bool>(),
+           py::arg("name"), py::arg("model_path"), py::arg("environment"), py::arg("step_size"),
+           py::arg("normalize_action"))
+      .def("reset", &PythonAgent::reset, py::arg("seed"))
+      .def("act", &PythonAgent::act, py::arg("observation"));
+}
