@@ -8,7 +8,7 @@ src=${1:?source dir}
 db=${2:?compile_commands.json}
 ros_dirs='/(ros|roscpp|rosconsole|sensor_msgs|geometry_msgs|std_msgs|tf2_ros|tf2_msgs|cv_bridge|image_transport|visualization_msgs|xmlrpcpp|torch|ATen|c10)/'
 status=0
-core_modules=(common geometry scene render occlusion env agents)
+core_modules=(common geometry scene render sensor occlusion env agents)
 core_dirs=()
 for module in "${core_modules[@]}"; do
   core_dirs+=("$src/src/$module" "$src/include/occlusion_env/$module")

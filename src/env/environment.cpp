@@ -75,6 +75,7 @@ void EnvironmentOptions::validate() const {
         "option 'gradient_method' must be analytic or finite_difference, got " +
         quoted(gradient_method));
   }
+  sensor.validate();
   require(reward.success_threshold_pixels >= 0, "success_threshold", "at least 0 px",
           static_cast<double>(reward.success_threshold_pixels));
 }
@@ -84,6 +85,7 @@ Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<Obje
       camera_(options.radius_m, options.elevation_limit_rad),
       library_(library ? std::move(library) : libraryFor(options)),
       renderer_(rendererFor(options)),
+      sensor_(options.sensor),
       reward_(options.reward) {}
 
 Environment::~Environment() = default;
@@ -153,8 +155,8 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       scene_ = std::move(candidate);
       std::swap(buffers_, probe_buffers_);
       countOcclusion(num_objects);
-      observation_.rgb = buffers_.rgb;
-      observation_.depth = buffers_.depth;
+      sensor_.startEpisode(seed);
+      observeThroughSensor();
       observation_.instance = buffers_.instance;
       observation_.amodal_bits = buffers_.amodal_bits;
       reward_.startEpisode(occlusion);
@@ -219,6 +221,18 @@ const StepInfo& Environment::viewFrom(const SphericalPose& pose) {
 void Environment::renderCurrent() {
   renderer_->render(info_.world_from_optical, buffers_);
   info_.occlusion = countOcclusion(static_cast<int>(scene_.objects.size()));
+  if (!sensor_.isIdeal()) sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+}
+
+void Environment::observeThroughSensor() {
+  if (sensor_.isIdeal()) {
+    observation_.rgb = buffers_.rgb;
+    observation_.depth = buffers_.depth;
+    return;
+  }
+  sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+  observation_.rgb = sensor_.rgb();
+  observation_.depth = sensor_.depth();
 }
 
 OcclusionStats Environment::countOcclusion(int num_objects) {

@@ -16,6 +16,7 @@
 #include "occlusion_env/render/renderer.hpp"
 #include "occlusion_env/scene/object_library.hpp"
 #include "occlusion_env/scene/scene.hpp"
+#include "occlusion_env/sensor/camera_sensor.hpp"
 
 namespace occlusion_env {
 
@@ -49,6 +50,9 @@ struct EnvironmentOptions {
   RendererFactory renderer_factory;          // empty: OSMesa (render/osmesa_renderer.hpp)
   OcclusionGradientOptions gradient;         // of occlusionGradient()
   std::string gradient_method = "analytic";  // of occlusionGradient(): analytic | finite_difference
+
+  // What the camera reports (sensor/camera_sensor.hpp): only the observation goes through it.
+  SensorOptions sensor;
 
   /// Throws InvalidArgumentError naming the first bad option.
   void validate() const;
@@ -96,8 +100,10 @@ class Environment : public EnvironmentInterface, public RenderedView {
   const Scene& scene() const { return scene_; }
   const StepInfo& info() const { return info_; }
   const Observation& observation() const { return observation_; }
-  /// The buffers behind the current observation, including each object's own depth.
+  /// The ideal buffers the observation is made from, including each object's own depth (the
+  /// occlusion count and gradients read these, never the sensor's output).
   const RenderBuffers& renderBuffers() const override { return buffers_; }
+  const CameraSensor& sensor() const { return sensor_; }
   const RewardFunction& reward() const { return reward_; }
   ObjectLibrary& library() { return *library_; }
 
@@ -109,6 +115,8 @@ class Environment : public EnvironmentInterface, public RenderedView {
  private:
   void placeScene(const Scene& scene);
   void renderCurrent();
+  /// Points the observation's rgb and depth at what the camera sensor makes of buffers_.
+  void observeThroughSensor();
   /// Counts the occlusion in buffers_ and rewrites observation_.occlusion_mask to match.
   OcclusionStats countOcclusion(int num_objects);
 
@@ -116,6 +124,7 @@ class Environment : public EnvironmentInterface, public RenderedView {
   SphericalCamera camera_;
   std::shared_ptr<ObjectLibrary> library_;
   std::unique_ptr<Renderer> renderer_;
+  CameraSensor sensor_;
   std::unique_ptr<OcclusionGradient> gradient_;  // made on the first occlusionGradient()
   RewardFunction reward_;
   Scene scene_;
