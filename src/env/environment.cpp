@@ -76,6 +76,7 @@ void EnvironmentOptions::validate() const {
         quoted(gradient_method));
   }
   sensor.validate();
+  world.validate();
   require(reward.success_threshold_pixels >= 0, "success_threshold", "at least 0 px",
           static_cast<double>(reward.success_threshold_pixels));
 }
@@ -99,7 +100,7 @@ const CameraIntrinsics& Environment::intrinsics() const {
   return renderer_->intrinsics();
 }
 
-void Environment::placeScene(const Scene& scene) {
+void Environment::placeScene(const Scene& scene, const Room* room) {
   std::vector<PlacedMesh> placed;
   placed.reserve(scene.objects.size());
   for (const SceneObject& object : scene.objects) {
@@ -109,6 +110,7 @@ void Environment::placeScene(const Scene& scene) {
     placed.push_back(mesh);
   }
   renderer_->setScene(placed);
+  if (room) renderer_->setBackground(room->background());
 }
 
 StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides) {
@@ -145,7 +147,13 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
   try {
     for (int attempt = 0; attempt < num_attempts; ++attempt) {
       Scene candidate = generateScene(*library_, scene_options, preset, random);
-      placeScene(candidate);
+      std::unique_ptr<Room> candidate_room;
+      if (options_.world.isRoom()) {
+        const double floor_height = standOnFloor(candidate);
+        candidate_room = std::make_unique<Room>(generateRoom(
+            candidate, floor_height, options_.radius_m, options_.world, *library_, random));
+      }
+      placeScene(candidate, candidate_room.get());
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
       OcclusionStats occlusion =
@@ -153,6 +161,7 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
+      room_ = std::move(candidate_room);
       std::swap(buffers_, probe_buffers_);
       countOcclusion(num_objects);
       sensor_.startEpisode(seed);
@@ -173,10 +182,11 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       return result;
     }
   } catch (...) {
-    if (has_episode_) placeScene(scene_);  // the renderer draws the current episode again
+    if (has_episode_)
+      placeScene(scene_, room_.get());  // the renderer draws the current episode again
     throw;
   }
-  if (has_episode_) placeScene(scene_);
+  if (has_episode_) placeScene(scene_, room_.get());
   std::ostringstream message;
   message << "no scene with occlusion at the start view in " << num_attempts << " draws from seed "
           << seed << " (preset " << toString(preset)

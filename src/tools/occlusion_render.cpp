@@ -35,6 +35,11 @@ Options:
   --lod N             triangle budget per object, 0 = full meshes (default 5000)
   --steps N           then take N steps along --action before writing (default 0)
   --action DAZ,DEL    the step direction (default 1,0: increasing azimuth)
+  --world W           void | room: the objects on a floor inside walls (default void)
+  --clutter N         background objects in a room, 0..8 (default 3)
+  --depth-sensor S    ideal | kinect_v1 | realsense_d435 | azure_kinect: rgb.png and depth.png
+                      as that camera gives them (default ideal)
+  --sensor-parameters FILE  sensor parameters (default: built in, = config/sensors.yaml)
   --out DIR           output folder (default ./occlusion_render_out)
   --list              print the catalogue's objects and exit
   --help              this text
@@ -96,6 +101,14 @@ Arguments parse(int argc, char** argv) {
         const std::vector<double> action = reader.numbers(-kHuge, kHuge);
         if (action.size() != 2) fail("--action expects DAZ,DEL");
         args.action = {action[0], action[1]};
+      } else if (flag == "--world") {
+        args.options.world.world = reader.text();
+      } else if (flag == "--clutter") {
+        args.options.world.clutter = static_cast<int>(reader.integer(0, 8));
+      } else if (flag == "--depth-sensor") {
+        args.options.sensor.depth_sensor = reader.text();
+      } else if (flag == "--sensor-parameters") {
+        args.options.sensor.parameters_file = reader.text();
       } else if (flag == "--out") {
         args.out_dir = reader.text();
       } else {
@@ -151,7 +164,8 @@ int run(const Arguments& args) {
 
   const StepInfo& info = result.info;
   std::cout << std::fixed << std::setprecision(4) << "seed " << args.seed << ", preset "
-            << args.options.preset << ", camera azimuth " << info.pose.azimuth_rad
+            << args.options.preset << ", world " << args.options.world.world << ", depth sensor "
+            << args.options.sensor.depth_sensor << ", camera azimuth " << info.pose.azimuth_rad
             << " rad, elevation " << info.pose.elevation_rad << " rad\n";
   for (int k = 0; k < num_objects; ++k) {
     const SceneObject& object = env.scene().objects[k];

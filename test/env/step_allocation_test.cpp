@@ -32,7 +32,11 @@ class StepAllocationTest : public ::testing::TestWithParam<std::string> {};
 TEST_P(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
   EnvironmentOptions options;
   options.width = options.height = 128;
-  options.sensor.depth_sensor = GetParam();
+  // "room+SENSOR": in a room, through SENSOR.
+  const std::string room_prefix = "room+";
+  const bool in_room = GetParam().rfind(room_prefix, 0) == 0;
+  options.world.world = in_room ? "room" : "void";
+  options.sensor.depth_sensor = in_room ? GetParam().substr(room_prefix.size()) : GetParam();
   options.max_steps = 1000;
   Environment env(options);
   env.reset(3);
@@ -50,7 +54,8 @@ TEST_P(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
 }
 
 INSTANTIATE_TEST_SUITE_P(DepthSensors, StepAllocationTest,
-                         ::testing::Values("ideal", "kinect_v1", "realsense_d435", "azure_kinect"));
+                         ::testing::Values("ideal", "kinect_v1", "realsense_d435", "azure_kinect",
+                                           "room+ideal", "room+realsense_d435"));
 
 }  // namespace
 }  // namespace occlusion_env

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "occlusion_env/env/environment_interface.hpp"
+#include "occlusion_env/env/room.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
@@ -50,6 +51,9 @@ struct EnvironmentOptions {
   RendererFactory renderer_factory;          // empty: OSMesa (render/osmesa_renderer.hpp)
   OcclusionGradientOptions gradient;         // of occlusionGradient()
   std::string gradient_method = "analytic";  // of occlusionGradient(): analytic | finite_difference
+
+  // The world around the targets (env/room.hpp): void (the paper's) or room.
+  WorldOptions world;
 
   // What the camera reports (sensor/camera_sensor.hpp): only the observation goes through it.
   SensorOptions sensor;
@@ -98,6 +102,8 @@ class Environment : public EnvironmentInterface, public RenderedView {
   const CameraIntrinsics& intrinsics() const override;
   const SphericalCamera& camera() const override { return camera_; }
   const Scene& scene() const { return scene_; }
+  /// The current episode's room; nullptr in the void world.
+  const Room* room() const { return room_.get(); }
   const StepInfo& info() const { return info_; }
   const Observation& observation() const { return observation_; }
   /// The ideal buffers the observation is made from, including each object's own depth (the
@@ -113,7 +119,8 @@ class Environment : public EnvironmentInterface, public RenderedView {
   SphericalPose pose() const override { return info_.pose; }
 
  private:
-  void placeScene(const Scene& scene);
+  /// Gives the renderer the scene's targets and, in a room, the room around them.
+  void placeScene(const Scene& scene, const Room* room);
   void renderCurrent();
   /// Points the observation's rgb and depth at what the camera sensor makes of buffers_.
   void observeThroughSensor();
@@ -128,6 +135,7 @@ class Environment : public EnvironmentInterface, public RenderedView {
   std::unique_ptr<OcclusionGradient> gradient_;  // made on the first occlusionGradient()
   RewardFunction reward_;
   Scene scene_;
+  std::unique_ptr<Room> room_;  // of scene_; null in the void world
   RenderBuffers buffers_;
   RenderBuffers probe_buffers_;
   Observation observation_;
