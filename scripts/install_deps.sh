@@ -21,7 +21,7 @@ packages=(
   libtf-dev
   # core libraries
   libeigen3-dev libopencv-dev libassimp-dev libosmesa6-dev libmeshoptimizer-dev libzip-dev
-  libyaml-cpp-dev nlohmann-json3-dev
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   # the learning library: libtorch, and OpenBLAS so that its convolutions do not run on the
   # reference BLAS (5-8x slower; doc/BENCHMARKS.md)
   libtorch-dev libopenblas0-openmp

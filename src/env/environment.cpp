@@ -37,48 +37,20 @@ std::shared_ptr<ObjectLibrary> libraryFor(const EnvironmentOptions& options) {
 }  // namespace
 
 void EnvironmentOptions::validate() const {
-  require(width >= 64 && width <= 1024, "width", "in [64, 1024] px", width);
-  require(height >= 64 && height <= 1024, "height", "in [64, 1024] px", height);
-  require(field_of_view_rad > 0.0 && field_of_view_rad < M_PI, "field_of_view", "in (0, pi) rad",
-          field_of_view_rad);
-  require(std::isfinite(radius_m) && radius_m > 0.0, "radius", "a positive number of metres",
-          radius_m);
-  require(elevation_limit_rad >= 0.0 && elevation_limit_rad < 0.5 * M_PI, "elevation_limit",
-          "in [0, pi/2) rad", elevation_limit_rad);
-  require(start_azimuth_range_rad >= 0.0 && start_azimuth_range_rad <= M_PI, "start_azimuth_range",
-          "in [0, pi] rad", start_azimuth_range_rad);
+  environmentOptionTable().check(*this);
   require(std::abs(start_elevation_rad) <= elevation_limit_rad, "start_elevation",
           "within +/- elevation_limit", start_elevation_rad);
   require(lod_triangle_budget == 0 || lod_triangle_budget >= 12, "lod_triangle_budget",
           "0 (off) or at least 12 triangles", static_cast<double>(lod_triangle_budget));
-  require(scene.num_objects >= 1 && scene.num_objects <= kMaxSceneObjects, "num_objects",
-          "in [1, " + std::to_string(kMaxSceneObjects) + "]", scene.num_objects);
-  require(std::isfinite(scene.depth_spacing_m) && scene.depth_spacing_m >= 0.0, "depth_spacing",
-          "a non-negative number of metres", scene.depth_spacing_m);
-  require(std::isfinite(scene.lateral_sigma_m) && scene.lateral_sigma_m >= 0.0, "lateral_sigma",
-          "a non-negative number of metres", scene.lateral_sigma_m);
   require(scene.object_ids.size() <= static_cast<std::size_t>(kMaxSceneObjects), "object_ids",
           "at most " + std::to_string(kMaxSceneObjects) + " ids long",
           static_cast<double>(scene.object_ids.size()));
-  parseScenePreset(preset);
-  require(max_scene_attempts >= 1, "max_scene_attempts", "at least 1", max_scene_attempts);
-  require(std::isfinite(step_size_rad) && step_size_rad > 0.0 && step_size_rad <= M_PI, "step_size",
-          "in (0, pi] rad", step_size_rad);
-  require(max_steps >= 1, "max_steps", "at least 1", max_steps);
-  require(std::isfinite(reward.success_bonus), "success_bonus", "finite", reward.success_bonus);
-  require(std::isfinite(reward.step_penalty), "step_penalty", "finite", reward.step_penalty);
-  require(renderer.rasterizer_threads >= 0 && renderer.rasterizer_threads <= 64,
-          "rasterizer_threads", "in [0, 64]", renderer.rasterizer_threads);
-  validateGradientOptions(gradient);
-  if (gradient_method != "analytic" && gradient_method != "finite_difference") {
+  if (catalog.source == "folder" && catalog.paths.size() != 1) {
     throw InvalidArgumentError(
-        "option 'gradient_method' must be analytic or finite_difference, got " +
-        quoted(gradient_method));
+        "catalog_paths must hold exactly one root folder when catalog_source is folder");
   }
   sensor.validate();
   world.validate();
-  require(reward.success_threshold_pixels >= 0, "success_threshold", "at least 0 px",
-          static_cast<double>(reward.success_threshold_pixels));
 }
 
 Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)

@@ -148,150 +148,80 @@ void ParameterReader::read(const std::string& name, std::vector<std::uint64_t>& 
   out = std::move(integers);
 }
 
-const std::vector<std::string>& simulatorParameterNames() {
-  static const std::vector<std::string> kNames = {"width",
-                                                  "height",
-                                                  "field_of_view",
-                                                  "radius",
-                                                  "elevation_limit",
-                                                  "start_azimuth_range",
-                                                  "start_elevation",
-                                                  "catalog_source",
-                                                  "catalog_paths",
-                                                  "lod_triangle_budget",
-                                                  "num_objects",
-                                                  "depth_spacing",
-                                                  "lateral_sigma",
-                                                  "categories",
-                                                  "object_ids",
-                                                  "preset",
-                                                  "max_scene_attempts",
-                                                  "normalize_action",
-                                                  "step_size",
-                                                  "max_steps",
-                                                  "reward_normalization",
-                                                  "success_bonus",
-                                                  "step_penalty",
-                                                  "success_threshold",
-                                                  "world_frame",
-                                                  "camera_frame",
-                                                  "optical_frame",
-                                                  "tf_rate",
-                                                  "start_seed",
-                                                  "offer_gradient",
-                                                  "gradient_method",
-                                                  "gradient_blur_sigma",
-                                                  "gradient_finite_difference_step",
-                                                  "gradient_zero_tolerance",
-                                                  "rasterizer_threads",
-                                                  "model_split",
-                                                  "mode",
-                                                  "camera_rate",
-                                                  "motion_time",
-                                                  "depth_encoding"};
-  return kNames;
+nlohmann::json parameterJson(const std::string& name, const XmlRpc::XmlRpcValue& value) {
+  XmlRpc::XmlRpcValue& mutable_value = const_cast<XmlRpc::XmlRpcValue&>(value);  // read only
+  switch (value.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return static_cast<bool>(mutable_value);
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return static_cast<int>(mutable_value);
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      return static_cast<double>(mutable_value);  // NaN and inf are refused by the table
+    case XmlRpc::XmlRpcValue::TypeString:
+      return static_cast<std::string>(mutable_value);
+    case XmlRpc::XmlRpcValue::TypeArray: {
+      nlohmann::json list = nlohmann::json::array();
+      for (int i = 0; i < value.size(); ++i) list.push_back(parameterJson(name, mutable_value[i]));
+      return list;
+    }
+    default:
+      throw ParameterError("parameter " + name + " must not be " + typeName(value));
+  }
+}
+
+const OptionTable<SimulatorOptions>& simulatorOptionTable() {
+  using Options = SimulatorOptions;
+  static const auto table =
+      OptionTable<Options>()
+          .include(environmentOptionTable(),
+                   [](Options& o) -> EnvironmentOptions& { return o.environment; })
+          .add("world_frame", &Options::world_frame, OptionSpec("fixed frame of the scene"))
+          .add("camera_frame", &Options::camera_frame,
+               OptionSpec("camera body frame (x forward, z up)"))
+          .add("optical_frame", &Options::optical_frame,
+               OptionSpec("camera optical frame (z forward); the images' frame_id"))
+          .add("tf_rate", &Options::tf_rate_hz,
+               OptionSpec("re-broadcast of the camera transform; 0 = only on reset and step")
+                   .unit("Hz")
+                   .range(0, 1000))
+          .add("start_seed", &Options::start_seed,
+               OptionSpec("reset with this seed at start-up; -1: wait for a reset").atLeast(-1))
+          .add("offer_gradient", &Options::offer_gradient,
+               OptionSpec("offer get_occlusion_gradient (false: as a real camera)"))
+          .add("mode", &Options::mode,
+               OptionSpec("simulator, or camera: stand in for a real camera on a robot")
+                   .choices({"simulator", "camera"}))
+          .add("camera_rate", &Options::camera_rate_hz,
+               OptionSpec("camera mode: frames per second").unit("Hz").above(0).atMost(1000))
+          .add("motion_time", &Options::motion_time_s,
+               OptionSpec("camera mode: a goal is reached this long after it came")
+                   .unit("s")
+                   .range(0, 60))
+          .add("depth_encoding", &Options::depth_encoding,
+               OptionSpec("camera mode: 32FC1 [m] or 16UC1 [mm] (REP 118)")
+                   .choices({"32FC1", "16UC1"}));
+  return table;
+}
+
+std::vector<std::string> simulatorParameterNames() {
+  return simulatorOptionTable().keys();
 }
 
 SimulatorOptions readSimulatorOptions(const ros::NodeHandle& private_node) {
-  const ParameterReader reader(private_node);
   SimulatorOptions options;
-  options.world_frame = names::kWorldFrame;
-  options.camera_frame = names::kCameraFrame;
-  options.optical_frame = names::kOpticalFrame;
-  EnvironmentOptions& environment = options.environment;
-
-  reader.read("width", environment.width);
-  reader.read("height", environment.height);
-  reader.read("field_of_view", environment.field_of_view_rad);
-  reader.read("radius", environment.radius_m);
-  reader.read("elevation_limit", environment.elevation_limit_rad);
-  reader.read("start_azimuth_range", environment.start_azimuth_range_rad);
-  reader.read("start_elevation", environment.start_elevation_rad);
-  reader.read("catalog_source", environment.catalog.source);
-  reader.read("catalog_paths", environment.catalog.paths);
-  reader.read("lod_triangle_budget", environment.lod_triangle_budget);
-  reader.read("num_objects", environment.scene.num_objects);
-  reader.read("depth_spacing", environment.scene.depth_spacing_m);
-  reader.read("lateral_sigma", environment.scene.lateral_sigma_m);
-  reader.read("categories", environment.scene.categories);
-  reader.read("object_ids", environment.scene.object_ids);
-  reader.read("preset", environment.preset);
-  std::string model_split = toString(environment.scene.model_split);
-  reader.read("model_split", model_split);
-  reader.read("max_scene_attempts", environment.max_scene_attempts);
-  reader.read("normalize_action", environment.normalize_action);
-  reader.read("step_size", environment.step_size_rad);
-  reader.read("max_steps", environment.max_steps);
-  std::string normalization = toString(environment.reward.normalization);
-  reader.read("reward_normalization", normalization);
-  reader.read("success_bonus", environment.reward.success_bonus);
-  reader.read("step_penalty", environment.reward.step_penalty);
-  reader.read("success_threshold", environment.reward.success_threshold_pixels);
-  reader.read("world_frame", options.world_frame);
-  reader.read("camera_frame", options.camera_frame);
-  reader.read("optical_frame", options.optical_frame);
-  reader.read("tf_rate", options.tf_rate_hz);
-  reader.read("start_seed", options.start_seed);
-  reader.read("offer_gradient", options.offer_gradient);
-  reader.read("gradient_method", environment.gradient_method);
-  reader.read("gradient_blur_sigma", environment.gradient.blur_sigma_px);
-  reader.read("gradient_finite_difference_step", environment.gradient.finite_difference_step_rad);
-  reader.read("gradient_zero_tolerance", environment.gradient.zero_gradient_tolerance);
-  reader.read("rasterizer_threads", environment.renderer.rasterizer_threads);
-  reader.read("mode", options.mode);
-  reader.read("camera_rate", options.camera_rate_hz);
-  reader.read("motion_time", options.motion_time_s);
-  reader.read("depth_encoding", options.depth_encoding);
-
-  const std::string prefix = "parameter " + private_node.getNamespace() + "/";
+  readParameters(private_node, simulatorOptionTable(), options);
   try {
-    environment.reward.normalization = parseRewardNormalization(normalization);
-  } catch (const InvalidArgumentError& error) {
-    throw ParameterError(prefix + "reward_normalization: " + error.what());
-  }
-  try {
-    environment.scene.model_split = parseModelSplit(model_split);
-  } catch (const InvalidArgumentError& error) {
-    throw ParameterError(prefix + "model_split: " + error.what());
-  }
-  try {
-    environment.validate();  // its messages name the option, which is the parameter's name
+    options.environment.validate();  // the rules between options; messages name them
   } catch (const InvalidArgumentError& error) {
     throw ParameterError("invalid parameter in " + private_node.getNamespace() + ": " +
                          error.what());
   }
-  const std::vector<std::string> sources = {"embedded", "sweethome3d", "folder"};
-  if (std::find(sources.begin(), sources.end(), environment.catalog.source) == sources.end()) {
-    throw ParameterError(prefix + "catalog_source must be embedded, sweethome3d or folder, got '" +
-                         environment.catalog.source + "'");
-  }
-  if (environment.catalog.source == "folder" && environment.catalog.paths.size() != 1) {
-    throw ParameterError(prefix +
-                         "catalog_paths must hold exactly one root folder when catalog_source "
-                         "is folder");
-  }
   for (const std::string* frame :
        {&options.world_frame, &options.camera_frame, &options.optical_frame}) {
-    if (frame->empty()) throw ParameterError(prefix + "*_frame: frame names must not be empty");
-  }
-  if (options.tf_rate_hz < 0.0 || options.tf_rate_hz > 1000.0) {
-    throw ParameterError(prefix + "tf_rate must be in [0, 1000] Hz");
-  }
-  if (options.mode != "simulator" && options.mode != "camera") {
-    throw ParameterError(prefix + "mode must be simulator or camera, got '" + options.mode + "'");
-  }
-  if (!(options.camera_rate_hz > 0.0 && options.camera_rate_hz <= 1000.0)) {
-    throw ParameterError(prefix + "camera_rate must be in (0, 1000] Hz");
-  }
-  if (!(options.motion_time_s >= 0.0 && options.motion_time_s <= 60.0)) {
-    throw ParameterError(prefix + "motion_time must be in [0, 60] s");
-  }
-  if (options.depth_encoding != "32FC1" && options.depth_encoding != "16UC1") {
-    throw ParameterError(prefix + "depth_encoding must be 32FC1 or 16UC1, got '" +
-                         options.depth_encoding + "'");
-  }
-  if (options.start_seed < -1) {
-    throw ParameterError(prefix + "start_seed must be -1 (no reset at start-up) or a seed >= 0");
+    if (frame->empty()) {
+      throw ParameterError("parameter " + private_node.getNamespace() +
+                           "/*_frame: frame names must not be empty");
+    }
   }
   return options;
 }

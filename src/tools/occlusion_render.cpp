@@ -13,112 +13,44 @@
 
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/render/visualization.hpp"
-#include "occlusion_env/tools/arguments.hpp"
+#include "occlusion_env/tools/cli_options.hpp"
 
 namespace {
 
-constexpr const char* kUsage = R"(Usage: occlusion_render [options]
-Renders the start view of one seeded scene and writes rgb.png, depth.png (colourised),
-occlusion.png (overlay: occluded pixels red, each object's amodal outline) and instance.png.
-
-Options:
-  --seed N            scene seed (default 0)
-  --preset P          random | two_chairs | two_tables (default random)
-  --source S          embedded | sweethome3d | folder (default embedded)
-  --path P            a .sh3f file or folder (sweethome3d), the root (folder); repeatable
-  --category C        draw objects of this category only; repeatable
-  --id ID             use this object; repeat for several (see --list)
-  --objects N         number of objects (default 3)
-  --size N            image width and height [px] (default 256)
-  --azimuth RAD       start azimuth (default: drawn from the seed)
-  --elevation RAD     start elevation (default 0)
-  --lod N             triangle budget per object, 0 = full meshes (default 5000)
-  --steps N           then take N steps along --action before writing (default 0)
-  --action DAZ,DEL    the step direction (default 1,0: increasing azimuth)
-  --world W           void | room: the objects on a floor inside walls (default void)
-  --clutter N         background objects in a room, 0..8 (default 3)
-  --depth-sensor S    ideal | kinect_v1 | realsense_d435 | azure_kinect: rgb.png and depth.png
-                      as that camera gives them (default ideal)
-  --sensor-parameters FILE  sensor parameters (default: built in, = config/sensors.yaml)
-  --out DIR           output folder (default ./occlusion_render_out)
-  --list              print the catalogue's objects and exit
-  --help              this text
-)";
-
+/// The tool's own options; the scene's come from environmentOptionTable().
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
-  occlusion_env::ResetOptions reset;
   std::uint64_t seed = 0;
-  std::string out_dir = "occlusion_render_out";
+  int size = 256;
+  std::optional<double> azimuth_rad;    // empty: drawn from the seed
+  std::optional<double> elevation_rad;  // empty: the environment's start elevation
   int steps = 0;
-  occlusion_env::Action action{1.0, 0.0};
+  std::vector<double> action{1.0, 0.0};
+  std::string out_dir = "occlusion_render_out";
   bool list = false;
 };
+
+const occlusion_env::OptionTable<Arguments>& argumentTable() {
+  using occlusion_env::OptionSpec;
+  static const auto table =
+      occlusion_env::OptionTable<Arguments>()
+          .add("seed", &Arguments::seed, OptionSpec("scene seed"))
+          .add("size", &Arguments::size,
+               OptionSpec("image width and height").unit("px").range(64, 1024))
+          .add("azimuth", &Arguments::azimuth_rad,
+               OptionSpec("start azimuth (default: drawn from the seed)").unit("rad"))
+          .add("elevation", &Arguments::elevation_rad, OptionSpec("start elevation").unit("rad"))
+          .add("steps", &Arguments::steps,
+               OptionSpec("then take this many steps along --action before writing").atLeast(0))
+          .add("action", &Arguments::action, OptionSpec("the step direction DAZ,DEL"))
+          .add("out", &Arguments::out_dir, OptionSpec("output folder"))
+          .add("list", &Arguments::list, OptionSpec("print the catalogue's objects and exit"));
+  return table;
+}
 
 [[noreturn]] void fail(const std::string& message) {
   std::cerr << "occlusion_render: " << message << "\n(--help lists the options)\n";
   std::exit(2);
-}
-
-Arguments parse(int argc, char** argv) {
-  namespace tools = occlusion_env::tools;
-  constexpr double kHuge = 1e12;
-  Arguments args;
-  tools::ArgumentReader reader(argc, argv);
-  try {
-    while (reader.next()) {
-      const std::string& flag = reader.flag();
-      if (flag == "--help" || flag == "-h") {
-        std::cout << kUsage;
-        std::exit(0);
-      } else if (flag == "--list") {
-        args.list = true;
-      } else if (flag == "--seed") {
-        args.seed = reader.unsignedInteger();
-      } else if (flag == "--preset") {
-        args.options.preset = reader.text();
-      } else if (flag == "--source") {
-        args.options.catalog.source = reader.text();
-      } else if (flag == "--path") {
-        args.options.catalog.paths.push_back(reader.text());
-      } else if (flag == "--category") {
-        args.options.scene.categories.push_back(reader.text());
-      } else if (flag == "--id") {
-        args.options.scene.object_ids.push_back(reader.text());
-      } else if (flag == "--objects") {
-        args.options.scene.num_objects = static_cast<int>(reader.integer(1, 1000));
-      } else if (flag == "--size") {
-        args.options.width = args.options.height = static_cast<int>(reader.integer(1, 1 << 16));
-      } else if (flag == "--azimuth") {
-        args.reset.start_azimuth_rad = reader.number(-kHuge, kHuge);
-      } else if (flag == "--elevation") {
-        args.reset.start_elevation_rad = reader.number(-kHuge, kHuge);
-      } else if (flag == "--lod") {
-        args.options.lod_triangle_budget = static_cast<std::size_t>(reader.integer(0, 1LL << 40));
-      } else if (flag == "--steps") {
-        args.steps = static_cast<int>(reader.integer(0, 1'000'000'000));
-      } else if (flag == "--action") {
-        const std::vector<double> action = reader.numbers(-kHuge, kHuge);
-        if (action.size() != 2) fail("--action expects DAZ,DEL");
-        args.action = {action[0], action[1]};
-      } else if (flag == "--world") {
-        args.options.world.world = reader.text();
-      } else if (flag == "--clutter") {
-        args.options.world.clutter = static_cast<int>(reader.integer(0, 8));
-      } else if (flag == "--depth-sensor") {
-        args.options.sensor.depth_sensor = reader.text();
-      } else if (flag == "--sensor-parameters") {
-        args.options.sensor.parameters_file = reader.text();
-      } else if (flag == "--out") {
-        args.out_dir = reader.text();
-      } else {
-        reader.unknown();
-      }
-    }
-  } catch (const tools::ArgumentError& error) {
-    fail(error.what());
-  }
-  return args;
 }
 
 void writeRgb(const std::filesystem::path& path, const cv::Mat& rgb) {
@@ -140,10 +72,16 @@ int run(const Arguments& args) {
     return 0;
   }
 
-  Environment env(args.options);
-  StepResult result = env.reset(args.seed, args.reset);
+  EnvironmentOptions options = args.options;
+  options.width = options.height = args.size;
+  Environment env(options);
+  if (args.action.size() != 2) fail("--action expects DAZ,DEL");
+  ResetOptions reset;
+  reset.start_azimuth_rad = args.azimuth_rad;
+  reset.start_elevation_rad = args.elevation_rad;
+  StepResult result = env.reset(args.seed, reset);
   for (int t = 0; t < args.steps && !result.terminated && !result.truncated; ++t) {
-    result = env.step(args.action);
+    result = env.step({args.action[0], args.action[1]});
     std::cout << std::setprecision(6) << "step " << result.info.step_index << ": reward "
               << result.reward << ", occlusion " << result.info.occlusion.total_pixels << " px"
               << (result.terminated  ? " (terminated)"
@@ -189,7 +127,21 @@ int run(const Arguments& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Arguments args = parse(argc, argv);
+  using namespace occlusion_env;
+  Arguments args;
+  CLI::App app(
+      "Renders the start view of one seeded scene and writes rgb.png, depth.png (colourised),\n"
+      "occlusion.png (overlay: occluded pixels red, each object's amodal outline) and "
+      "instance.png.",
+      "occlusion_render");
+  tools::addOptionFlags(app, argumentTable(), args);
+  tools::addOptionFlags(
+      app, environmentOptionTable(), args.options,
+      {"preset", "catalog_source", "catalog_paths", "categories", "object_ids", "num_objects",
+       "lod_triangle_budget", "world", "clutter", "depth_sensor", "sensor_parameters"});
+  if (const int exit_code = tools::parseCommandLine(app, argc, argv); exit_code >= 0) {
+    return exit_code;
+  }
   try {
     return run(args);
   } catch (const std::exception& error) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
 #include "occlusion_env/env/room.hpp"
 #include "occlusion_env/geometry/camera.hpp"
@@ -21,7 +22,8 @@
 
 namespace occlusion_env {
 
-/// Every option of the environment, with the defaults config/sim.yaml documents.
+/// Every option of the environment. Names, ranges, units and meanings are declared once, in
+/// environmentOptionTable(); config/sim.yaml and doc/USER_GUIDE.md are tested against it.
 struct EnvironmentOptions {
   // Camera.
   int width = 256;                                 // [px], 64..1024
@@ -58,9 +60,13 @@ struct EnvironmentOptions {
   // What the camera reports (sensor/camera_sensor.hpp): only the observation goes through it.
   SensorOptions sensor;
 
-  /// Throws InvalidArgumentError naming the first bad option.
+  /// Throws InvalidArgumentError naming the first bad option: the table's ranges and choices,
+  /// then the rules between options.
   void validate() const;
 };
+
+/// The declared options of EnvironmentOptions, by their ROS parameter names (config/sim.yaml).
+const OptionTable<EnvironmentOptions>& environmentOptionTable();
 
 class Environment : public EnvironmentInterface, public RenderedView {
  public:

@@ -1,5 +1,5 @@
-// The simulator's options, read from private ROS parameters (defaults and meanings:
-// config/sim.yaml).
+// ROS parameters read through option tables (common/option_table.hpp), and the simulator's
+// options (defaults and meanings: config/sim.yaml, doc/USER_GUIDE.md).
 #pragma once
 
 #include <ros/node_handle.h>
@@ -10,9 +10,13 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "occlusion_env/Reset.h"
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
+#include "occlusion_env/ros/names.hpp"
 
 namespace occlusion_env {
 
@@ -21,6 +25,27 @@ class ParameterError : public std::invalid_argument {
  public:
   using std::invalid_argument::invalid_argument;
 };
+
+/// A parameter's XML-RPC value as JSON (booleans, integers, doubles, strings, lists of them).
+/// Throws ParameterError naming `name` for other types (dictionaries, dates, binary).
+nlohmann::json parameterJson(const std::string& name, const XmlRpc::XmlRpcValue& value);
+
+/// Reads every option of `table` that is set under `node` into `options`, each checked as the
+/// table declares; absent ones keep their values. Throws ParameterError naming the parameter.
+template <class Options>
+void readParameters(const ros::NodeHandle& node, const OptionTable<Options>& table,
+                    Options& options) {
+  for (const OptionField<Options>& field : table.fields()) {
+    XmlRpc::XmlRpcValue value;
+    if (!node.hasParam(field.key) || !node.getParam(field.key, value)) continue;
+    const std::string name = node.resolveName(field.key);
+    try {
+      table.set(options, field.key, parameterJson(name, value));
+    } catch (const InvalidArgumentError& error) {
+      throw ParameterError("parameter " + name + ": " + error.what());
+    }
+  }
+}
 
 /// Reads typed parameters relative to a NodeHandle. Each read() leaves `out` unchanged when the
 /// parameter is not set and throws ParameterError, naming the parameter, on a wrong type.
@@ -50,9 +75,9 @@ class ParameterReader {
 /// Everything SimulatorNode needs besides its NodeHandles.
 struct SimulatorOptions {
   EnvironmentOptions environment;
-  std::string world_frame;       // fixed frame of the scene
-  std::string camera_frame;      // camera body frame (x forward)
-  std::string optical_frame;     // camera optical frame (z forward); the images' frame_id
+  std::string world_frame = names::kWorldFrame;      // fixed frame of the scene
+  std::string camera_frame = names::kCameraFrame;    // camera body frame (x forward)
+  std::string optical_frame = names::kOpticalFrame;  // optical frame (z forward); images' frame_id
   double tf_rate_hz = 10.0;      // re-broadcast of the camera transform; 0 = only on reset/step
   std::int64_t start_seed = -1;  // >= 0: reset with this seed at start-up; -1: wait for a reset
   bool offer_gradient = true;    // false: no get_occlusion_gradient, as a real camera
@@ -92,7 +117,10 @@ std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node);
 std::vector<std::string> unknownParameters(const ros::NodeHandle& private_node,
                                            const std::vector<std::string>& known);
 
+/// The simulator node's parameters: every EnvironmentOptions option, then the node's own.
+const OptionTable<SimulatorOptions>& simulatorOptionTable();
+
 /// Every parameter name readSimulatorOptions() reads, relative to the private namespace.
-const std::vector<std::string>& simulatorParameterNames();
+std::vector<std::string> simulatorParameterNames();
 
 }  // namespace occlusion_env
