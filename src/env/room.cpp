@@ -14,7 +14,7 @@ constexpr double kWallHalfWidthM = 14.0;   // each wall's half width (walls cros
 constexpr double kMinWallDistanceM = 2.0;  // wall distances from the origin ~ U(min, 2 R)
 constexpr double kWallClearanceM = 0.3;    // between a wall and the nearest target
 constexpr double kFloorDropM = 0.001;      // floor below the lowest point: no coplanar faces
-constexpr int kMaxTilesPerSide = 48;
+constexpr int kMaxTilesPerSide = 24;
 
 /// Linear RGB of an sRGB-like colour given in HSV (h in [0, 360), s, v in [0, 1]).
 Eigen::Vector3f linearFromHsv(double h, double s, double v) {

@@ -40,6 +40,7 @@ CameraSensor::CameraSensor(const SensorOptions& options, const SensorParameters&
   options_.validate();
   occlusion_env::validate(parameters_);
   depth_model_ = makeDepthSensorModel(options_.depth_sensor, parameters_);
+  startEpisode(0);
 }
 
 CameraSensor::~CameraSensor() = default;
@@ -49,9 +50,16 @@ void CameraSensor::startEpisode(std::uint64_t seed) {
   const RgbEffectParameters& rgb = parameters_.rgb;
   const double exposure =
       std::exp2(random_.uniform(-rgb.exposure_log2_range, rgb.exposure_log2_range));
-  for (float& gain : channel_gain_) {
-    gain = static_cast<float>(
-        exposure * (1.0 + random_.uniform(-rgb.white_balance_range, rgb.white_balance_range)));
+  for (int c = 0; c < 3; ++c) {
+    const double gain =
+        exposure * (1.0 + random_.uniform(-rgb.white_balance_range, rgb.white_balance_range));
+    for (int value = 0; value < 256; ++value) {
+      // The noise grows with the signal (shot noise) above a floor (read noise).
+      const double signal = gain * value;
+      signal_[c][value] = static_cast<float>(signal);
+      noise_sigma_[c][value] =
+          static_cast<float>(std::sqrt(rgb.read_noise * rgb.read_noise + rgb.shot_noise * signal));
+    }
   }
 }
 
@@ -75,43 +83,35 @@ void CameraSensor::apply(const cv::Mat& rgb, const cv::Mat& depth,
 }
 
 void CameraSensor::blur(const cv::Mat& rgb) {
-  // Separable Gaussian, edges clamped; cv::GaussianBlur would allocate its kernels every call.
+  // n passes of the binomial [1 2 1] / 4 (variance 1/2 each), n = round(2 sigma^2) >= 1: integer
+  // arithmetic, edges clamped.
   const double sigma = parameters_.rgb.blur_sigma_px;
-  const int radius = std::min(kMaxBlurRadius, static_cast<int>(std::ceil(3.0 * sigma)));
-  float weights[2 * kMaxBlurRadius + 1];
-  float total = 0.0f;
-  for (int k = -radius; k <= radius; ++k) {
-    weights[k + radius] = static_cast<float>(std::exp(-0.5 * k * k / (sigma * sigma)));
-    total += weights[k + radius];
-  }
-  for (int k = 0; k <= 2 * radius; ++k) weights[k] /= total;
+  const int passes = std::max(1, static_cast<int>(std::lround(2.0 * sigma * sigma)));
   const int w = rgb.cols;
   const int h = rgb.rows;
-  blur_rows_.create(rgb.size(), CV_32FC3);
-  for (int v = 0; v < h; ++v) {
-    const cv::Vec3b* in = rgb.ptr<cv::Vec3b>(v);
-    cv::Vec3f* out = blur_rows_.ptr<cv::Vec3f>(v);
-    for (int u = 0; u < w; ++u) {
-      cv::Vec3f sum(0.0f, 0.0f, 0.0f);
-      for (int k = -radius; k <= radius; ++k) {
-        const cv::Vec3b& pixel = in[std::clamp(u + k, 0, w - 1)];
-        sum += weights[k + radius] * cv::Vec3f(pixel[0], pixel[1], pixel[2]);
-      }
-      out[u] = sum;
-    }
-  }
+  blur_rows_.create(rgb.size(), CV_16UC3);
   blurred_.create(rgb.size(), CV_8UC3);
-  for (int v = 0; v < h; ++v) {
-    cv::Vec3b* out = blurred_.ptr<cv::Vec3b>(v);
-    for (int u = 0; u < w; ++u) {
-      cv::Vec3f sum(0.0f, 0.0f, 0.0f);
-      for (int k = -radius; k <= radius; ++k) {
-        sum += weights[k + radius] * blur_rows_.ptr<cv::Vec3f>(std::clamp(v + k, 0, h - 1))[u];
+  const cv::Mat* source = &rgb;
+  for (int pass = 0; pass < passes; ++pass) {
+    for (int v = 0; v < h; ++v) {
+      const std::uint8_t* in = source->ptr<std::uint8_t>(v);
+      std::uint16_t* out = blur_rows_.ptr<std::uint16_t>(v);
+      for (int i = 0; i < 3 * w; ++i) {
+        const int left = i >= 3 ? i - 3 : i;
+        const int right = i + 3 < 3 * w ? i + 3 : i;
+        out[i] = static_cast<std::uint16_t>(in[left] + 2 * in[i] + in[right]);  // x4
       }
-      out[u] = cv::Vec3b(cv::saturate_cast<std::uint8_t>(sum[0]),
-                         cv::saturate_cast<std::uint8_t>(sum[1]),
-                         cv::saturate_cast<std::uint8_t>(sum[2]));
     }
+    for (int v = 0; v < h; ++v) {
+      const std::uint16_t* up = blur_rows_.ptr<std::uint16_t>(std::max(v - 1, 0));
+      const std::uint16_t* centre = blur_rows_.ptr<std::uint16_t>(v);
+      const std::uint16_t* down = blur_rows_.ptr<std::uint16_t>(std::min(v + 1, h - 1));
+      std::uint8_t* out = blurred_.ptr<std::uint8_t>(v);
+      for (int i = 0; i < 3 * w; ++i) {
+        out[i] = static_cast<std::uint8_t>((up[i] + 2 * centre[i] + down[i] + 8) >> 4);
+      }
+    }
+    source = &blurred_;
   }
 }
 
@@ -123,17 +123,19 @@ void CameraSensor::applyRgbEffects(const cv::Mat& rgb) {
     source = &blurred_;
   }
   rgb_.create(rgb.size(), CV_8UC3);
-  const float read_variance = static_cast<float>(p.read_noise * p.read_noise);
-  const float shot = static_cast<float>(p.shot_noise);
   for (int v = 0; v < rgb.rows; ++v) {
     const std::uint8_t* in = source->ptr<std::uint8_t>(v);
     std::uint8_t* out = rgb_.ptr<std::uint8_t>(v);
-    for (int i = 0; i < 3 * rgb.cols; ++i) {
-      // Exposure and white balance scale the signal; the noise grows with it (shot noise).
-      const float signal = channel_gain_[i % 3] * static_cast<float>(in[i]);
-      const float sigma = std::sqrt(read_variance + shot * signal);
-      const float value = signal + sigma * fastStandardNormal(random_);
-      out[i] = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
+    for (int i = 0; i < 3 * rgb.cols; i += 3) {
+      // Two draws per random word; exposure, white balance and the noise's sigma from the tables.
+      const std::uint64_t bits = random_.nextU64();
+      const float noise[3] = {byteSumNormal(static_cast<std::uint32_t>(bits)),
+                              byteSumNormal(static_cast<std::uint32_t>(bits >> 32)),
+                              fastStandardNormal(random_)};
+      for (int c = 0; c < 3; ++c) {
+        const float value = signal_[c][in[i + c]] + noise_sigma_[c][in[i + c]] * noise[c];
+        out[i + c] = static_cast<std::uint8_t>(std::clamp(value, 0.0f, 255.0f) + 0.5f);
+      }
     }
   }
   if (p.jpeg_quality > 0) {

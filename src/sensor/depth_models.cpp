@@ -67,12 +67,12 @@ void dilateSquare(const cv::Mat& mask, int radius, cv::Mat& scratch, cv::Mat& ba
       if (centre >= 0) out[centre] = (last_set >= centre - radius) ? 1 : 0;
     }
   }
-  for (int u = 0; u < w; ++u) {
-    int last_set = -1 - 2 * radius - 1;
-    for (int v = 0; v < h + radius; ++v) {
-      if (v < h && scratch.ptr<std::uint8_t>(v)[u]) last_set = v;
-      const int centre = v - radius;
-      if (centre >= 0) band.ptr<std::uint8_t>(centre)[u] = (last_set >= centre - radius) ? 1 : 0;
+  for (int v = 0; v < h; ++v) {  // row by row: OR of the rows within the radius
+    std::uint8_t* out = band.ptr<std::uint8_t>(v);
+    std::fill(out, out + w, std::uint8_t{0});
+    for (int k = std::max(v - radius, 0); k <= std::min(v + radius, h - 1); ++k) {
+      const std::uint8_t* row = scratch.ptr<std::uint8_t>(k);
+      for (int u = 0; u < w; ++u) out[u] |= row[u];
     }
   }
 }
@@ -287,6 +287,10 @@ void DepthGeometry::compute(const cv::Mat& depth, const CameraIntrinsics& intrin
   const float slope = static_cast<float>(edge_parameters.max_slope / intrinsics.fx);
   const int w = depth.cols;
   const int h = depth.rows;
+  ray_x_.resize(w);
+  ray_y_.resize(h);
+  for (int u = 0; u < w; ++u) ray_x_[u] = static_cast<float>((u - intrinsics.cx) / intrinsics.fx);
+  for (int v = 0; v < h; ++v) ray_y_[v] = static_cast<float>((v - intrinsics.cy) / intrinsics.fy);
   for (int v = 0; v < h; ++v) {
     const float* z = depth.ptr<float>(v);
     const float* above = depth.ptr<float>(std::max(v - 1, 0));
@@ -308,21 +312,22 @@ void DepthGeometry::compute(const cv::Mat& depth, const CameraIntrinsics& intrin
         edge_out[u] = 1;
         continue;
       }
-      // Normal = (dP/du) x (dP/dv) of the back-projected points; P = z ((u - cx)/fx, (v - cy)/fy,
-      // 1).
-      const auto point = [&](float depth_m, int pu, int pv) {
-        return Eigen::Vector3f(depth_m * static_cast<float>((pu - intrinsics.cx) / intrinsics.fx),
-                               depth_m * static_cast<float>((pv - intrinsics.cy) / intrinsics.fy),
-                               depth_m);
-      };
-      const Eigen::Vector3f du =
-          point(right, std::min(u + 1, w - 1), v) - point(left, std::max(u - 1, 0), v);
-      const Eigen::Vector3f dv =
-          point(below[u], u, std::min(v + 1, h - 1)) - point(above[u], u, std::max(v - 1, 0));
-      const Eigen::Vector3f normal = du.cross(dv);
-      const Eigen::Vector3f ray = point(z[u], u, v);
-      const float norms = normal.norm() * ray.norm();
-      if (norms > 0.0f) cos_out[u] = std::abs(normal.dot(ray)) / norms;
+      // Normal = (dP/du) x (dP/dv) of the back-projected points P = z (a_u, b_v, 1).
+      const int ul = std::max(u - 1, 0), ur = std::min(u + 1, w - 1);
+      const float du[3] = {right * ray_x_[ur] - left * ray_x_[ul], (right - left) * ray_y_[v],
+                           right - left};
+      const float dv[3] = {
+          (below[u] - above[u]) * ray_x_[u],
+          below[u] * ray_y_[std::min(v + 1, h - 1)] - above[u] * ray_y_[std::max(v - 1, 0)],
+          below[u] - above[u]};
+      const float normal[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+                               du[0] * dv[1] - du[1] * dv[0]};
+      const float ray[3] = {ray_x_[u], ray_y_[v], 1.0f};
+      const float dot = normal[0] * ray[0] + normal[1] * ray[1] + normal[2];
+      const float norms =
+          std::sqrt((normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]) *
+                    (ray[0] * ray[0] + ray[1] * ray[1] + 1.0f));
+      if (norms > 0.0f) cos_out[u] = std::abs(dot) / norms;
     }
   }
 }

@@ -40,6 +40,10 @@ struct DepthGeometry {
   /// Fills both maps from `depth` (CV_32FC1 [m], NaN = nothing).
   void compute(const cv::Mat& depth, const CameraIntrinsics& intrinsics,
                const EdgeParameters& edge_parameters);
+
+ private:
+  std::vector<float> ray_x_;  // (u - cx) / fx per column
+  std::vector<float> ray_y_;  // (v - cy) / fy per row
 };
 
 /// One depth-sensor model. measure() writes the depth this sensor reports for an ideal depth image
@@ -71,6 +75,16 @@ inline float fastStandardNormal(RandomSource& random) {
   return (static_cast<float>(sum) - kMean) * kInverseSigma;
 }
 
+/// A coarser standard-normal draw from 32 random bits (4 x 8 bits, Irwin-Hall; exact mean and
+/// variance, 1021 levels): enough for colour noise of a few levels.
+inline float byteSumNormal(std::uint32_t bits) {
+  const std::uint32_t sum =
+      (bits & 0xff) + ((bits >> 8) & 0xff) + ((bits >> 16) & 0xff) + (bits >> 24);
+  constexpr float kMean = 2.0f * 255.0f;
+  constexpr float kInverseSigma = 1.0f / 147.8005f;  // sqrt(4 (256^2 - 1) / 12)
+  return (static_cast<float>(sum) - kMean) * kInverseSigma;
+}
+
 /// The whole camera: a depth model and the colour effects, with the episode's random stream.
 /// startEpisode(seed) fixes every draw that follows, so the same seed and the same frames give
 /// bit-identical output.
@@ -98,17 +112,17 @@ class CameraSensor {
 
  private:
   void applyRgbEffects(const cv::Mat& rgb);
-  /// Gaussian blur of `rgb` (sigma rgb.blur_sigma_px, radius at most kMaxBlurRadius) into blurred_.
+  /// Blur of `rgb` into blurred_: binomial passes of variance rgb.blur_sigma_px^2 (rounded).
   void blur(const cv::Mat& rgb);
-  static constexpr int kMaxBlurRadius = 8;
 
   SensorOptions options_;
   SensorParameters parameters_;
   std::unique_ptr<DepthSensorModel> depth_model_;
   RandomSource random_{0};
   DepthGeometry geometry_;
-  float channel_gain_[3] = {1.0f, 1.0f, 1.0f};
-  cv::Mat blur_rows_;  // CV_32FC3, the horizontal pass
+  float signal_[3][256] = {};       // per channel and input level: exposure x white balance
+  float noise_sigma_[3][256] = {};  // the noise's sigma there [levels]
+  cv::Mat blur_rows_;               // CV_16UC3, the horizontal pass (x4)
   cv::Mat blurred_;
   cv::Mat rgb_;
   cv::Mat depth_;
