@@ -102,6 +102,28 @@ void BM_StepLodBudget(benchmark::State& state) {
                  std::to_string(state.range(0)) + "px");
 }
 
+// A camera-like world (arguments scene kind, world 0 void / 1 room, depth sensor index of
+// depthSensorNames(): 0 ideal, 2 realsense_d435) at 256 px with LOD: the rate against today's
+// (void, ideal) for the same scenes.
+void BM_StepWorld(benchmark::State& state) {
+  Setup setup = setupFor(256, static_cast<SceneKind>(state.range(0)), kLodBudget);
+  setup.options.world.world = state.range(1) ? "room" : "void";
+  setup.options.sensor.depth_sensor = depthSensorNames().at(state.range(2));
+  stepBenchmark(state, setup);
+  state.SetLabel(std::string(state.range(0) == kEmbedded ? "embedded" : "oak_chairs") + " " +
+                 setup.options.world.world + " " + setup.options.sensor.depth_sensor + " 256px");
+}
+
+void worldArguments(benchmark::internal::Benchmark* benchmark) {
+  benchmark->ArgNames({"scene", "room", "sensor"});
+  for (int kind : {kEmbedded, kOakChairs}) {
+    for (const auto& [room, sensor] : {std::pair{0, 0}, {1, 0}, {0, 2}, {1, 2}}) {
+      benchmark->Args({kind, room, sensor});
+    }
+  }
+  benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+}
+
 void BM_Reset(benchmark::State& state) {
   const Setup setup = setupFor(state);
   std::unique_ptr<Environment> env;
@@ -185,6 +207,7 @@ void budgetArguments(benchmark::internal::Benchmark* benchmark) {
 
 BENCHMARK(BM_Step)->Apply(sceneArguments);
 BENCHMARK(BM_StepLodBudget)->Apply(budgetArguments);
+BENCHMARK(BM_StepWorld)->Apply(worldArguments);
 BENCHMARK(BM_Reset)->Apply(sceneArguments);
 BENCHMARK(BM_AnalyticGradient)->Apply(gradientArguments);
 BENCHMARK(BM_FiniteDifferenceGradient)->Apply(gradientArguments);

@@ -49,6 +49,8 @@ void EnvironmentOptions::validate() const {
     throw InvalidArgumentError(
         "catalog_paths must hold exactly one root folder when catalog_source is folder");
   }
+  sensor.validate();
+  world.validate();
 }
 
 Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)
@@ -56,6 +58,7 @@ Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<Obje
       camera_(options.radius_m, options.elevation_limit_rad),
       library_(library ? std::move(library) : libraryFor(options)),
       renderer_(rendererFor(options)),
+      sensor_(options.sensor),
       reward_(options.reward) {}
 
 Environment::~Environment() = default;
@@ -69,7 +72,7 @@ const CameraIntrinsics& Environment::intrinsics() const {
   return renderer_->intrinsics();
 }
 
-void Environment::placeScene(const Scene& scene) {
+void Environment::placeScene(const Scene& scene, const Room* room) {
   std::vector<PlacedMesh> placed;
   placed.reserve(scene.objects.size());
   for (const SceneObject& object : scene.objects) {
@@ -79,6 +82,7 @@ void Environment::placeScene(const Scene& scene) {
     placed.push_back(mesh);
   }
   renderer_->setScene(placed);
+  if (room) renderer_->setBackground(room->background());
 }
 
 StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides) {
@@ -115,7 +119,13 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
   try {
     for (int attempt = 0; attempt < num_attempts; ++attempt) {
       Scene candidate = generateScene(*library_, scene_options, preset, random);
-      placeScene(candidate);
+      std::unique_ptr<Room> candidate_room;
+      if (options_.world.isRoom()) {
+        const double floor_height = standOnFloor(candidate);
+        candidate_room = std::make_unique<Room>(generateRoom(
+            candidate, floor_height, options_.radius_m, options_.world, *library_, random));
+      }
+      placeScene(candidate, candidate_room.get());
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
       OcclusionStats occlusion =
@@ -123,10 +133,11 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
+      room_ = std::move(candidate_room);
       std::swap(buffers_, probe_buffers_);
       countOcclusion(num_objects);
-      observation_.rgb = buffers_.rgb;
-      observation_.depth = buffers_.depth;
+      sensor_.startEpisode(seed);
+      observeThroughSensor();
       observation_.instance = buffers_.instance;
       observation_.amodal_bits = buffers_.amodal_bits;
       reward_.startEpisode(occlusion);
@@ -143,10 +154,11 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       return result;
     }
   } catch (...) {
-    if (has_episode_) placeScene(scene_);  // the renderer draws the current episode again
+    if (has_episode_)
+      placeScene(scene_, room_.get());  // the renderer draws the current episode again
     throw;
   }
-  if (has_episode_) placeScene(scene_);
+  if (has_episode_) placeScene(scene_, room_.get());
   std::ostringstream message;
   message << "no scene with occlusion at the start view in " << num_attempts << " draws from seed "
           << seed << " (preset " << toString(preset)
@@ -191,6 +203,18 @@ const StepInfo& Environment::viewFrom(const SphericalPose& pose) {
 void Environment::renderCurrent() {
   renderer_->render(info_.world_from_optical, buffers_);
   info_.occlusion = countOcclusion(static_cast<int>(scene_.objects.size()));
+  if (!sensor_.isIdeal()) sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+}
+
+void Environment::observeThroughSensor() {
+  if (sensor_.isIdeal()) {
+    observation_.rgb = buffers_.rgb;
+    observation_.depth = buffers_.depth;
+    return;
+  }
+  sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+  observation_.rgb = sensor_.rgb();
+  observation_.depth = sensor_.depth();
 }
 
 OcclusionStats Environment::countOcclusion(int num_objects) {

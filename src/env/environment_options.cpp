@@ -126,12 +126,39 @@ void addGradientAndRendering(OptionTable<Options>& table) {
           OptionSpec("llvmpipe rasteriser threads besides the calling one").range(0, 64));
 }
 
+void addWorldAndSensor(OptionTable<Options>& table) {
+  table
+      .add(
+          "world", [](Options& o) -> std::string& { return o.world.world; },
+          OptionSpec("around the targets: void (the paper's black) or room (floor, walls, ceiling, "
+                     "clutter, surfaces and light drawn per scene)")
+              .choices({"void", "room"}))
+      .add(
+          "clutter", [](Options& o) -> int& { return o.world.clutter; },
+          OptionSpec("background catalogue objects per room, outside the camera's sphere (never "
+                     "counted, never in front of a target)")
+              .range(0, 8))
+      .add(
+          "depth_sensor", [](Options& o) -> std::string& { return o.sensor.depth_sensor; },
+          OptionSpec("the camera's depth-sensor model; not ideal: colour noise, exposure, white "
+                     "balance and blur too (doc/SENSORS.md)")
+              .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect"}))
+      .add(
+          "sensor_parameters", [](Options& o) -> std::string& { return o.sensor.parameters_file; },
+          OptionSpec("YAML of the sensor models' parameters (empty: built in, = "
+                     "config/sensors.yaml)"))
+      .add(
+          "rgb_effects", [](Options& o) -> bool& { return o.sensor.rgb_effects; },
+          OptionSpec("a non-ideal sensor also degrades the colour image"));
+}
+
 OptionTable<Options> makeTable() {
   OptionTable<Options> table;
   addCamera(table);
   addObjects(table);
   addEpisodes(table);
   addGradientAndRendering(table);
+  addWorldAndSensor(table);
   return table;
 }
 

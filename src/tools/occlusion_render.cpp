@@ -103,7 +103,8 @@ int run(const Arguments& args) {
 
   const StepInfo& info = result.info;
   std::cout << std::fixed << std::setprecision(4) << "seed " << args.seed << ", preset "
-            << args.options.preset << ", camera azimuth " << info.pose.azimuth_rad
+            << args.options.preset << ", world " << args.options.world.world << ", depth sensor "
+            << args.options.sensor.depth_sensor << ", camera azimuth " << info.pose.azimuth_rad
             << " rad, elevation " << info.pose.elevation_rad << " rad\n";
   for (int k = 0; k < num_objects; ++k) {
     const SceneObject& object = env.scene().objects[k];
@@ -135,9 +136,10 @@ int main(int argc, char** argv) {
       "instance.png.",
       "occlusion_render");
   tools::addOptionFlags(app, argumentTable(), args);
-  tools::addOptionFlags(app, environmentOptionTable(), args.options,
-                        {"preset", "catalog_source", "catalog_paths", "categories", "object_ids",
-                         "num_objects", "lod_triangle_budget"});
+  tools::addOptionFlags(
+      app, environmentOptionTable(), args.options,
+      {"preset", "catalog_source", "catalog_paths", "categories", "object_ids", "num_objects",
+       "lod_triangle_budget", "world", "clutter", "depth_sensor", "sensor_parameters"});
   if (const int exit_code = tools::parseCommandLine(app, argc, argv); exit_code >= 0) {
     return exit_code;
   }

@@ -27,9 +27,16 @@ void operator delete(void* p, std::size_t) noexcept {
 namespace occlusion_env {
 namespace {
 
-TEST(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
+class StepAllocationTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
   EnvironmentOptions options;
   options.width = options.height = 128;
+  // "room+SENSOR": in a room, through SENSOR.
+  const std::string room_prefix = "room+";
+  const bool in_room = GetParam().rfind(room_prefix, 0) == 0;
+  options.world.world = in_room ? "room" : "void";
+  options.sensor.depth_sensor = in_room ? GetParam().substr(room_prefix.size()) : GetParam();
   options.max_steps = 1000;
   Environment env(options);
   env.reset(3);
@@ -45,6 +52,10 @@ TEST(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
   EXPECT_EQ(g_allocations.load() - before, 0) << "operator new calls in 40 steps";
   EXPECT_GT(checksum, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(DepthSensors, StepAllocationTest,
+                         ::testing::Values("ideal", "kinect_v1", "realsense_d435", "azure_kinect",
+                                           "room+ideal", "room+realsense_d435"));
 
 }  // namespace
 }  // namespace occlusion_env

@@ -10,6 +10,7 @@
 
 #include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
+#include "occlusion_env/env/room.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
@@ -17,6 +18,7 @@
 #include "occlusion_env/render/renderer.hpp"
 #include "occlusion_env/scene/object_library.hpp"
 #include "occlusion_env/scene/scene.hpp"
+#include "occlusion_env/sensor/camera_sensor.hpp"
 
 namespace occlusion_env {
 
@@ -51,6 +53,12 @@ struct EnvironmentOptions {
   RendererFactory renderer_factory;          // empty: OSMesa (render/osmesa_renderer.hpp)
   OcclusionGradientOptions gradient;         // of occlusionGradient()
   std::string gradient_method = "analytic";  // of occlusionGradient(): analytic | finite_difference
+
+  // The world around the targets (env/room.hpp): void (the paper's) or room.
+  WorldOptions world;
+
+  // What the camera reports (sensor/camera_sensor.hpp): only the observation goes through it.
+  SensorOptions sensor;
 
   /// Throws InvalidArgumentError naming the first bad option: the table's ranges and choices,
   /// then the rules between options.
@@ -100,10 +108,14 @@ class Environment : public EnvironmentInterface, public RenderedView {
   const CameraIntrinsics& intrinsics() const override;
   const SphericalCamera& camera() const override { return camera_; }
   const Scene& scene() const { return scene_; }
+  /// The current episode's room; nullptr in the void world.
+  const Room* room() const { return room_.get(); }
   const StepInfo& info() const { return info_; }
   const Observation& observation() const { return observation_; }
-  /// The buffers behind the current observation, including each object's own depth.
+  /// The ideal buffers the observation is made from, including each object's own depth (the
+  /// occlusion count and gradients read these, never the sensor's output).
   const RenderBuffers& renderBuffers() const override { return buffers_; }
+  const CameraSensor& sensor() const { return sensor_; }
   const RewardFunction& reward() const { return reward_; }
   ObjectLibrary& library() { return *library_; }
 
@@ -113,8 +125,11 @@ class Environment : public EnvironmentInterface, public RenderedView {
   SphericalPose pose() const override { return info_.pose; }
 
  private:
-  void placeScene(const Scene& scene);
+  /// Gives the renderer the scene's targets and, in a room, the room around them.
+  void placeScene(const Scene& scene, const Room* room);
   void renderCurrent();
+  /// Points the observation's rgb and depth at what the camera sensor makes of buffers_.
+  void observeThroughSensor();
   /// Counts the occlusion in buffers_ and rewrites observation_.occlusion_mask to match.
   OcclusionStats countOcclusion(int num_objects);
 
@@ -122,9 +137,11 @@ class Environment : public EnvironmentInterface, public RenderedView {
   SphericalCamera camera_;
   std::shared_ptr<ObjectLibrary> library_;
   std::unique_ptr<Renderer> renderer_;
+  CameraSensor sensor_;
   std::unique_ptr<OcclusionGradient> gradient_;  // made on the first occlusionGradient()
   RewardFunction reward_;
   Scene scene_;
+  std::unique_ptr<Room> room_;  // of scene_; null in the void world
   RenderBuffers buffers_;
   RenderBuffers probe_buffers_;
   Observation observation_;

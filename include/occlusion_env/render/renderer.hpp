@@ -34,12 +34,36 @@ struct RenderBuffers {
   cv::Mat amodal_bits;  // CV_8UC1, bit k set where object k covers the pixel, hidden or not
   std::vector<cv::Mat> object_depth;  // per object, CV_32FC1: [m] of its front surface alone,
                                       // +inf where the object does not cover the pixel
-  /// The union of the objects' footprints in the last render [px]: outside it every image holds
+  /// The union of the objects' footprints in the last render [px] (the whole image when the scene
+  /// has a background, SceneBackground): outside it every image holds
   /// the background (rgb 0, depth NaN, instance 0, amodal bits 0, object depths +inf), so per-pixel
   /// work may stay inside. Unbounded until the first render. The renderer rewrites only these
   /// pixels and those of the new footprint, so do not write into the images (clone them) and do
   /// not render into two RenderBuffers that share pixels.
   cv::Rect footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+};
+
+/// The light of a scene: ambient + diffuse * colour * max(n . l, 0) times each surface's colour.
+struct SceneLighting {
+  /// true: today's light fixed to the camera (back and up in the optical frame); to_light_world
+  /// is unused then.
+  bool headlight = true;
+  Eigen::Vector3d to_light_world{0.0, 0.0, 1.0};  // unit vector towards the light
+  Eigen::Vector3f color{1.0f, 1.0f, 1.0f};        // of the diffuse light
+  float ambient = 0.3f;
+  float diffuse = 0.7f;
+};
+
+/// What surrounds the target objects (a room): drawn into colour, depth and the visible instance
+/// map (as 0, background), never into the amodal silhouettes or the objects' own depths, so the
+/// occlusion count sees only the targets. Meshes must outlive the renderer's use of them.
+struct SceneBackground {
+  /// Consistently wound surfaces (floor, walls), drawn one-sided: only from the side whose
+  /// triangles run counter-clockwise as seen from it. A camera behind such a surface sees
+  /// through it.
+  std::vector<PlacedMesh> one_sided;
+  std::vector<PlacedMesh> two_sided;  // other meshes (background clutter), seen from both sides
+  SceneLighting lighting;
 };
 
 class Renderer {
@@ -49,6 +73,11 @@ class Renderer {
   /// Uploads the scene's meshes (at most kMaxSceneObjects); called on reset, not on step.
   /// Throws InvalidArgumentError for too many objects or a null mesh.
   virtual void setScene(const std::vector<PlacedMesh>& objects) = 0;
+
+  /// Sets what surrounds the objects and the light; called on reset, after setScene(). An empty
+  /// background and the default lighting give the images of a renderer that never had one. The
+  /// default implementation accepts only that.
+  virtual void setBackground(const SceneBackground& background);
 
   /// Renders the current scene seen from `world_from_optical` into `out`.
   virtual void render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) = 0;

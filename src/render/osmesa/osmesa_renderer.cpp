@@ -39,6 +39,8 @@ constexpr double kFarM = 100.0;
 constexpr int kContextBufferSide = 8;  // [px] OSMesa's own colour buffer; we draw into FBOs
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// The headlight of SceneLighting::headlight, in the optical frame: back and up.
+const Eigen::Vector3f kHeadlightToLight(0.0f, -0.316228f, -0.948683f);
 static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "vertex arrays must be packed");
 
 // Shared by both passes so that both compute bit-identical clip positions and depths.
@@ -56,19 +58,23 @@ void main() {
 }
 )";
 
-// Flat-shaded vertex colours under a headlight slightly above the camera, sRGB-encoded, packed
-// with the depth as described at the top; +inf (a no-op under GL_MIN) into the other targets.
+// Flat-shaded vertex colours under a directional light (by default a headlight slightly above the
+// camera), sRGB-encoded, packed with the depth as described at the top; +inf (a no-op under GL_MIN)
+// into the other targets.
 // (kMaxObjects is defined in front of this text: see fragmentShaderSource().)
 constexpr const char* kFragmentShaderBody = R"(
 in vec3 v_position;
 in vec3 v_color;
 uniform int u_object;
+uniform vec3 u_to_light;     // optical frame, unit
+uniform vec3 u_light_color;  // of the diffuse term
+uniform float u_ambient;
+uniform float u_diffuse;
 layout(location = 0) out vec4 o_target[kMaxObjects];
-const vec3 kToLight = vec3(0.0, -0.316228, -0.948683);  // optical frame: back and up
 void main() {
   vec3 normal = normalize(cross(dFdx(v_position), dFdy(v_position)));
   if (dot(normal, v_position) > 0.0) normal = -normal;  // face the camera: winding is arbitrary
-  float shade = 0.3 + 0.7 * max(dot(normal, kToLight), 0.0);
+  vec3 shade = u_ambient + u_diffuse * max(dot(normal, u_to_light), 0.0) * u_light_color;
   uvec3 color = uvec3(pow(clamp(v_color * shade, 0.0, 1.0), vec3(1.0 / 2.2)) * 255.0 + 0.5);
   float depth = 1.0 / gl_FragCoord.w;  // optical z [m]
   uint key = floatBitsToUint(depth) & 0xffffff00u;
@@ -177,6 +183,17 @@ void fillRect(cv::Mat& mat, const cv::Rect& rect, Pixel value) {
   }
 }
 
+void validatePlaced(const PlacedMesh& placed, const std::string& what) {
+  const Mesh* mesh = placed.mesh;
+  if (mesh == nullptr || mesh->empty()) throw InvalidArgumentError(what + " has no mesh");
+  if (mesh->colors.size() != mesh->positions.size() || mesh->indices.size() % 3 != 0) {
+    throw InvalidArgumentError(what + " needs one colour per vertex and whole triangles");
+  }
+  for (const std::uint32_t index : mesh->indices) {
+    if (index >= mesh->positions.size()) throw InvalidArgumentError(what + ": index out of range");
+  }
+}
+
 struct ContextDeleter {
   void operator()(osmesa_context* context) const {
     if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
@@ -189,6 +206,7 @@ class OsMesaRenderer final : public Renderer {
   explicit OsMesaRenderer(const CameraIntrinsics& intrinsics);
 
   void setScene(const std::vector<PlacedMesh>& objects) override;
+  void setBackground(const SceneBackground& background) override;
   void render(const Eigen::Isometry3d& world_from_optical, RenderBuffers& out) override;
   const CameraIntrinsics& intrinsics() const override { return intrinsics_; }
   std::string name() const override { return "osmesa"; }
@@ -215,6 +233,12 @@ class OsMesaRenderer final : public Renderer {
   void createContext();
   // The shader program, the framebuffer with one target per object and a vertex array per slot.
   void createSceneTargets();
+  static void createGpuMesh(GpuMesh& mesh);
+  static void upload(const PlacedMesh& placed, GpuMesh& gpu);
+  void setLighting(const Eigen::Matrix4d& optical_from_world);
+  void drawMesh(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_world);
+  void renderBackground(const Eigen::Matrix4d& optical_from_world);
+  void mergeBackground(RenderBuffers& out);
   PixelRect footprint(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_object) const;
   void readBack(RenderBuffers& out);
 
@@ -228,7 +252,19 @@ class OsMesaRenderer final : public Renderer {
   GLint clip_location_ = -1;
   GLint optical_location_ = -1;
   GLint object_location_ = -1;
+  GLint to_light_location_ = -1;
+  GLint light_color_location_ = -1;
+  GLint ambient_location_ = -1;
+  GLint diffuse_location_ = -1;
   GLuint framebuffer_ = 0;  // kMaxSceneObjects RGBA32F targets, one per object
+
+  // The background: its own RGBA32F target, packed like the objects'.
+  GLuint background_framebuffer_ = 0;
+  std::vector<GpuMesh> background_meshes_;  // one-sided first, then two-sided
+  int num_one_sided_ = 0;
+  int num_background_ = 0;
+  SceneLighting lighting_;
+  std::vector<float> background_staging_;  // width * height * 4 once there is a background
 
   std::array<GpuMesh, kMaxSceneObjects> meshes_;
   int num_objects_ = 0;
@@ -256,6 +292,8 @@ OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
   glBlendFunc(GL_ONE, GL_ONE);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glViewport(0, 0, k.width, k.height);
+  glFrontFace(GL_CW);  // the projection flips rows: counter-clockwise as seen is clockwise here
+  glCullFace(GL_BACK);
   glUseProgram(program_);
   staging_.resize(static_cast<std::size_t>(k.width) * k.height * 4);
   throwOnGlError("renderer setup");
@@ -300,6 +338,18 @@ void OsMesaRenderer::createSceneTargets() {
   clip_location_ = glGetUniformLocation(program_, "u_clip_from_object");
   optical_location_ = glGetUniformLocation(program_, "u_optical_from_object");
   object_location_ = glGetUniformLocation(program_, "u_object");
+  to_light_location_ = glGetUniformLocation(program_, "u_to_light");
+  light_color_location_ = glGetUniformLocation(program_, "u_light_color");
+  ambient_location_ = glGetUniformLocation(program_, "u_ambient");
+  diffuse_location_ = glGetUniformLocation(program_, "u_diffuse");
+
+  glGenFramebuffers(1, &background_framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, background_framebuffer_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                            makeRenderbuffer(GL_RGBA32F, k.width, k.height));
+  const GLenum background_buffer = GL_COLOR_ATTACHMENT0;
+  glDrawBuffers(1, &background_buffer);
+  throwUnlessComplete("background");
 
   // One target per object; setScene() enables as many draw buffers as there are objects.
   glGenFramebuffers(1, &framebuffer_);
@@ -313,20 +363,7 @@ void OsMesaRenderer::createSceneTargets() {
   throwUnlessComplete("scene");
 
   // One vertex array per scene slot; buffer storage is (re)specified in setScene().
-  for (GpuMesh& mesh : meshes_) {
-    glGenVertexArrays(1, &mesh.vertex_array);
-    glGenBuffers(1, &mesh.positions);
-    glGenBuffers(1, &mesh.colors);
-    glGenBuffers(1, &mesh.indices);
-    glBindVertexArray(mesh.vertex_array);
-    glBindBuffer(GL_ARRAY_BUFFER, mesh.positions);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(0);
-    glBindBuffer(GL_ARRAY_BUFFER, mesh.colors);
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    glEnableVertexAttribArray(1);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices);
-  }
+  for (GpuMesh& mesh : meshes_) createGpuMesh(mesh);
   glBindVertexArray(0);
 }
 
@@ -348,34 +385,10 @@ void OsMesaRenderer::setScene(const std::vector<PlacedMesh>& objects) {
   }
   // Validate everything before touching GL state, so a rejected scene leaves the old one intact.
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    const Mesh* mesh = objects[i].mesh;
-    const std::string what = "renderer: scene object " + std::to_string(i);
-    if (mesh == nullptr || mesh->empty()) throw InvalidArgumentError(what + " has no mesh");
-    if (mesh->colors.size() != mesh->positions.size() || mesh->indices.size() % 3 != 0) {
-      throw InvalidArgumentError(what + " needs one colour per vertex and whole triangles");
-    }
-    for (const std::uint32_t index : mesh->indices) {
-      if (index >= mesh->positions.size())
-        throw InvalidArgumentError(what + ": index out of range");
-    }
+    validatePlaced(objects[i], "renderer: scene object " + std::to_string(i));
   }
   makeCurrent();
-  for (std::size_t i = 0; i < objects.size(); ++i) {
-    const Mesh& mesh = *objects[i].mesh;
-    GpuMesh& gpu = meshes_[i];
-    glBindVertexArray(gpu.vertex_array);
-    glBindBuffer(GL_ARRAY_BUFFER, gpu.positions);
-    glBufferData(GL_ARRAY_BUFFER, mesh.positions.size() * sizeof(Eigen::Vector3f),
-                 mesh.positions.data(), GL_STATIC_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, gpu.colors);
-    glBufferData(GL_ARRAY_BUFFER, mesh.colors.size() * sizeof(Eigen::Vector3f), mesh.colors.data(),
-                 GL_STATIC_DRAW);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.size() * sizeof(std::uint32_t),
-                 mesh.indices.data(), GL_STATIC_DRAW);
-    gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
-    gpu.world_from_object = objects[i].world_from_object.matrix();
-    gpu.bounds = boundingBox(mesh).cast<double>();
-  }
+  for (std::size_t i = 0; i < objects.size(); ++i) upload(objects[i], meshes_[i]);
   glBindVertexArray(0);
   num_objects_ = static_cast<int>(objects.size());
   if (num_objects_ > 0) {
@@ -388,6 +401,131 @@ void OsMesaRenderer::setScene(const std::vector<PlacedMesh>& objects) {
     glDrawBuffers(num_objects_, kBuffers);
   }
   throwOnGlError("setScene");
+}
+
+void OsMesaRenderer::createGpuMesh(GpuMesh& mesh) {
+  glGenVertexArrays(1, &mesh.vertex_array);
+  glGenBuffers(1, &mesh.positions);
+  glGenBuffers(1, &mesh.colors);
+  glGenBuffers(1, &mesh.indices);
+  glBindVertexArray(mesh.vertex_array);
+  glBindBuffer(GL_ARRAY_BUFFER, mesh.positions);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, mesh.colors);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(1);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.indices);
+}
+
+void OsMesaRenderer::upload(const PlacedMesh& placed, GpuMesh& gpu) {
+  const Mesh& mesh = *placed.mesh;
+  glBindVertexArray(gpu.vertex_array);
+  glBindBuffer(GL_ARRAY_BUFFER, gpu.positions);
+  glBufferData(GL_ARRAY_BUFFER, mesh.positions.size() * sizeof(Eigen::Vector3f),
+               mesh.positions.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, gpu.colors);
+  glBufferData(GL_ARRAY_BUFFER, mesh.colors.size() * sizeof(Eigen::Vector3f), mesh.colors.data(),
+               GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, mesh.indices.size() * sizeof(std::uint32_t),
+               mesh.indices.data(), GL_STATIC_DRAW);
+  gpu.index_count = static_cast<GLsizei>(mesh.indices.size());
+  gpu.world_from_object = placed.world_from_object.matrix();
+  gpu.bounds = boundingBox(mesh).cast<double>();
+}
+
+void OsMesaRenderer::setBackground(const SceneBackground& background) {
+  const std::size_t count = background.one_sided.size() + background.two_sided.size();
+  for (std::size_t i = 0; i < count; ++i) {
+    const PlacedMesh& placed = i < background.one_sided.size()
+                                   ? background.one_sided[i]
+                                   : background.two_sided[i - background.one_sided.size()];
+    validatePlaced(placed, "renderer: background mesh " + std::to_string(i));
+  }
+  if (!background.lighting.to_light_world.allFinite() || !background.lighting.color.allFinite() ||
+      !std::isfinite(background.lighting.ambient) || !std::isfinite(background.lighting.diffuse)) {
+    throw InvalidArgumentError("renderer: the lighting must be finite");
+  }
+  makeCurrent();
+  while (background_meshes_.size() < count) {
+    background_meshes_.emplace_back();
+    createGpuMesh(background_meshes_.back());
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    upload(i < background.one_sided.size() ? background.one_sided[i]
+                                           : background.two_sided[i - background.one_sided.size()],
+           background_meshes_[i]);
+  }
+  glBindVertexArray(0);
+  num_one_sided_ = static_cast<int>(background.one_sided.size());
+  num_background_ = static_cast<int>(count);
+  lighting_ = background.lighting;
+  if (count > 0) {
+    background_staging_.resize(static_cast<std::size_t>(intrinsics_.width) * intrinsics_.height *
+                               4);
+  }
+  throwOnGlError("setBackground");
+}
+
+void OsMesaRenderer::setLighting(const Eigen::Matrix4d& optical_from_world) {
+  const SceneLighting& light = lighting_;
+  const Eigen::Vector3f to_light =
+      light.headlight
+          ? kHeadlightToLight
+          : (optical_from_world.topLeftCorner<3, 3>() * light.to_light_world.normalized())
+                .cast<float>()
+                .eval();
+  glUniform3f(to_light_location_, to_light.x(), to_light.y(), to_light.z());
+  glUniform3f(light_color_location_, light.color.x(), light.color.y(), light.color.z());
+  glUniform1f(ambient_location_, light.ambient);
+  glUniform1f(diffuse_location_, light.diffuse);
+}
+
+void OsMesaRenderer::drawMesh(const GpuMesh& mesh, const Eigen::Matrix4d& optical_from_world) {
+  const Eigen::Matrix4d optical_from_object = optical_from_world * mesh.world_from_object;
+  const Eigen::Matrix4f clip_from_object = (clip_from_optical_ * optical_from_object).cast<float>();
+  const Eigen::Matrix4f optical = optical_from_object.cast<float>();
+  glUniformMatrix4fv(clip_location_, 1, GL_FALSE, clip_from_object.data());
+  glUniformMatrix4fv(optical_location_, 1, GL_FALSE, optical.data());
+  glBindVertexArray(mesh.vertex_array);
+  glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+}
+
+void OsMesaRenderer::renderBackground(const Eigen::Matrix4d& optical_from_world) {
+  static constexpr float kInfs[4] = {kInf, kInf, kInf, kInf};
+  glBindFramebuffer(GL_FRAMEBUFFER, background_framebuffer_);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glClearBufferfv(GL_COLOR, 0, kInfs);
+  glUniform1i(object_location_, 0);
+  glEnable(GL_CULL_FACE);
+  for (int i = 0; i < num_one_sided_; ++i) drawMesh(background_meshes_[i], optical_from_world);
+  glDisable(GL_CULL_FACE);
+  for (int i = num_one_sided_; i < num_background_; ++i) {
+    drawMesh(background_meshes_[i], optical_from_world);
+  }
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, intrinsics_.width, intrinsics_.height, GL_RGBA, GL_FLOAT,
+               background_staging_.data());
+}
+
+void OsMesaRenderer::mergeBackground(RenderBuffers& out) {
+  // The background shows where it is nearer than every object (instance 0, no silhouette bit).
+  float* nearest = reinterpret_cast<float*>(out.depth.data);
+  std::uint8_t* rgb = out.rgb.data;
+  std::uint8_t* instance = out.instance.data;
+  const std::size_t num_pixels = static_cast<std::size_t>(intrinsics_.width) * intrinsics_.height;
+  const float* target = background_staging_.data();
+  for (std::size_t p = 0; p < num_pixels; ++p, target += 4) {
+    const float depth = target[0];
+    if (!(depth < kInf) || nearest[p] <= depth) continue;
+    nearest[p] = depth;
+    instance[p] = 0;
+    for (int c = 0; c < 3; ++c) {
+      std::uint32_t packed;
+      std::memcpy(&packed, &target[1 + c], sizeof packed);
+      rgb[3 * p + c] = static_cast<std::uint8_t>(packed & 0xffu);
+    }
+  }
 }
 
 OsMesaRenderer::PixelRect OsMesaRenderer::footprint(
@@ -418,6 +556,8 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
   makeCurrent();
   const Eigen::Matrix4d optical_from_world = world_from_optical.inverse(Eigen::Isometry).matrix();
   static constexpr float kInfs[4] = {kInf, kInf, kInf, kInf};
+  setLighting(optical_from_world);
+  if (num_background_ > 0) renderBackground(optical_from_world);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   // Each object only touches the pixels of its bounding box's projection: clear, draw and read
   // back just those (objects typically cover a fraction of the image).
@@ -436,14 +576,8 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
     }
     glScissor(rect.x, rect.y, rect.width, rect.height);
     glClearBufferfv(GL_COLOR, i, kInfs);
-    const Eigen::Matrix4f clip_from_object =
-        (clip_from_optical_ * optical_from_object).cast<float>();
-    const Eigen::Matrix4f optical = optical_from_object.cast<float>();
-    glUniformMatrix4fv(clip_location_, 1, GL_FALSE, clip_from_object.data());
-    glUniformMatrix4fv(optical_location_, 1, GL_FALSE, optical.data());
     glUniform1i(object_location_, i);
-    glBindVertexArray(mesh.vertex_array);
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+    drawMesh(mesh, optical_from_world);
   }
   glDisable(GL_SCISSOR_TEST);
   readBack(out);
@@ -467,7 +601,8 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
     footprint |= cv::Rect(rect.x, rect.y, rect.width, rect.height);
   }
   // Per-pixel work stays inside the footprints of this render and the last one: the rest of every
-  // image already is background.
+  // image already is background. A room covers every pixel.
+  if (num_background_ > 0) footprint = image;
   const cv::Rect dirty = stale | footprint;
   fillRect(out.depth, dirty, kNaN);  // REP 118: nothing hit
   fillRect(out.rgb, dirty, cv::Vec3b(0, 0, 0));
@@ -516,6 +651,7 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
       }
     }
   }
+  if (num_background_ > 0) mergeBackground(out);
   out.footprint = footprint;
 }
 
