@@ -55,18 +55,32 @@ double OracleAnswer::firstDirectionRad() const {
   return std::atan2(path.front().d_elevation_rad, path.front().d_azimuth_rad);
 }
 
+const OptionTable<OracleOptions>& oracleOptionTable() {
+  static const auto table =
+      OptionTable<OracleOptions>()
+          .add("lattice_spacing_steps", &OracleOptions::lattice_spacing_steps,
+               OptionSpec("lattice spacing in steps (finer: closer to the true fewest steps, "
+                          "slower)")
+                   .above(0)
+                   .atMost(1)
+                   .flag("--spacing"))
+          .add("circle_directions", &OracleOptions::circle_directions,
+               OptionSpec("poses tried on the one-step circle").range(4, 4096))
+          .add("max_steps", &OracleOptions::max_steps,
+               OptionSpec("search radius: no answer beyond this many steps").atLeast(1));
+  return table;
+}
+
+void OracleOptions::validate() const {
+  oracleOptionTable().check(*this);
+}
+
 OcclusionOracle::OcclusionOracle(Environment& environment, const OracleOptions& options)
     : environment_(environment),
       options_(options),
       step_rad_(environment.options().step_size_rad),
       spacing_rad_(options.lattice_spacing_steps * step_rad_) {
-  if (!(options.lattice_spacing_steps > 0.0 && options.lattice_spacing_steps <= 1.0)) {
-    throw InvalidArgumentError("oracle: lattice_spacing_steps must lie in (0, 1]");
-  }
-  if (options.circle_directions < 4 || options.circle_directions > 4096) {
-    throw InvalidArgumentError("oracle: circle_directions must lie in [4, 4096]");
-  }
-  if (options.max_steps < 1) throw InvalidArgumentError("oracle: max_steps must be >= 1");
+  options.validate();
   if (!environment.options().normalize_action) {
     throw InvalidArgumentError("oracle: the environment must normalise actions (fixed steps)");
   }
@@ -103,30 +117,12 @@ std::int64_t OcclusionOracle::occlusionAtLattice(const LatticeIndex& index) {
   return pixels;
 }
 
-OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
-  if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
-  renders_ = 0;
-  OracleAnswer answer;
-  const double threshold =
-      static_cast<double>(environment_.options().reward.success_threshold_pixels);
-  const auto solved = [threshold](std::int64_t pixels) { return pixels <= threshold; };
-  if (solved(occlusionAt(pose))) {
-    answer.steps = 0;
-    answer.target = pose;
-    answer.poses_rendered = renders_;
-    return answer;
-  }
-  if (!anchored_) {
-    anchor_ = pose;
-    anchored_ = true;
-  }
+bool OcclusionOracle::nearestClearLatticeOffset(const SphericalPose& pose, double threshold,
+                                                std::pair<double, double>& offset_rad) {
   const double limit = environment_.camera().elevationLimit();
-  const double elevation_low = -limit - pose.elevation_rad;  // allowed offsets of the path
-  const double elevation_high = limit - pose.elevation_rad;
-
-  // The nearest unoccluded lattice pose: lattice points in order of their distance from `pose`.
-  // Points in Chebyshev ring r around the nearest lattice point lie at least (r - 0.5) s away, so
-  // once ring r is queued every point nearer than (r + 0.5) s is known.
+  // Lattice points in order of their distance from `pose`. Points in Chebyshev ring r around the
+  // nearest lattice point lie at least (r - 0.5) s away, so once ring r is queued every point
+  // nearer than (r + 0.5) s is known.
   const double offset_azimuth = wrapAngle(pose.azimuth_rad - anchor_.azimuth_rad) / spacing_rad_;
   const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
   const int center_a = static_cast<int>(std::lround(offset_azimuth));
@@ -146,19 +142,14 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
     const double distance = offsetOf(index).norm();
     if (distance > 0.0 && distance <= max_distance + 1e-12) queue.push({distance, index});
   };
-  bool found = false;
-  Eigen::Vector2d target_offset = Eigen::Vector2d::Zero();
-  for (int ring = 0; ring <= max_ring && !found; ++ring) {
-    if (ring == 0) {
-      push(center_a, center_e);
-    } else {
-      for (int i = -ring; i <= ring; ++i) {
-        push(center_a + i, center_e - ring);
-        push(center_a + i, center_e + ring);
-        if (i != -ring && i != ring) {
-          push(center_a - ring, center_e + i);
-          push(center_a + ring, center_e + i);
-        }
+  for (int ring = 0; ring <= max_ring; ++ring) {
+    if (ring == 0) push(center_a, center_e);
+    for (int i = -ring; ring > 0 && i <= ring; ++i) {
+      push(center_a + i, center_e - ring);
+      push(center_a + i, center_e + ring);
+      if (i != -ring && i != ring) {
+        push(center_a - ring, center_e + i);
+        push(center_a + ring, center_e + i);
       }
     }
     const double known =
@@ -166,35 +157,72 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
     while (!queue.empty() && queue.top().first <= known) {
       const LatticeIndex index = queue.top().second;
       queue.pop();
-      if (solved(occlusionAtLattice(index))) {
-        found = true;
-        target_offset = offsetOf(index);
-        break;
+      if (static_cast<double>(occlusionAtLattice(index)) <= threshold) {
+        const Eigen::Vector2d offset = offsetOf(index);
+        offset_rad = {offset.x(), offset.y()};
+        return true;
       }
     }
   }
+  return false;
+}
+
+bool OcclusionOracle::clearOneStep(const SphericalPose& pose, double threshold, Action& step) {
+  const double limit = environment_.camera().elevationLimit();
+  for (int k = 0; k < options_.circle_directions; ++k) {
+    const double direction = 2.0 * M_PI * k / options_.circle_directions;
+    step = move(direction, step_rad_);
+    const double elevation = pose.elevation_rad + step.d_elevation_rad;
+    // The path's allowed elevation offsets, as pathTo's.
+    if (step.d_elevation_rad < -limit - pose.elevation_rad ||
+        step.d_elevation_rad > limit - pose.elevation_rad) {
+      continue;
+    }
+    if (static_cast<double>(occlusionAt({pose.azimuth_rad + step.d_azimuth_rad, elevation})) <=
+        threshold) {
+      return true;
+    }
+  }
+  return false;
+}
+
+OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
+  if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
+  renders_ = 0;
+  OracleAnswer answer;
+  const double threshold =
+      static_cast<double>(environment_.options().reward.success_threshold_pixels);
+  if (static_cast<double>(occlusionAt(pose)) <= threshold) {
+    answer.steps = 0;
+    answer.target = pose;
+    answer.poses_rendered = renders_;
+    return answer;
+  }
+  if (!anchored_) {
+    anchor_ = pose;
+    anchored_ = true;
+  }
+  std::pair<double, double> offset{0.0, 0.0};
+  const bool found = nearestClearLatticeOffset(pose, threshold, offset);
+  const Eigen::Vector2d target_offset(offset.first, offset.second);
   // One step lands exactly on the circle of radius h: worth a look when the lattice's answer is
   // at most two steps.
-  if (!found || stepsFor(target_offset.norm(), step_rad_) <= 2) {
-    for (int k = 0; k < options_.circle_directions; ++k) {
-      const double direction = 2.0 * M_PI * k / options_.circle_directions;
-      const Action step = move(direction, step_rad_);
-      if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
-      const SphericalPose there{pose.azimuth_rad + step.d_azimuth_rad,
-                                pose.elevation_rad + step.d_elevation_rad};
-      if (solved(occlusionAt(there))) {
-        answer.steps = 1;
-        answer.path = {step};
-        answer.target = there;
-        answer.poses_rendered = renders_;
-        return answer;
-      }
-    }
+  Action step;
+  if ((!found || stepsFor(target_offset.norm(), step_rad_) <= 2) &&
+      clearOneStep(pose, threshold, step)) {
+    answer.steps = 1;
+    answer.path = {step};
+    answer.target = {pose.azimuth_rad + step.d_azimuth_rad,
+                     pose.elevation_rad + step.d_elevation_rad};
+    answer.poses_rendered = renders_;
+    return answer;
   }
   if (found) {
     answer.steps = stepsFor(target_offset.norm(), step_rad_);
     if (answer.steps <= options_.max_steps) {
-      answer.path = pathTo(target_offset, answer.steps, step_rad_, elevation_low, elevation_high);
+      const double limit = environment_.camera().elevationLimit();
+      answer.path = pathTo(target_offset, answer.steps, step_rad_, -limit - pose.elevation_rad,
+                           limit - pose.elevation_rad);
       answer.target = {pose.azimuth_rad + target_offset.x(),
                        pose.elevation_rad + target_offset.y()};
     } else {

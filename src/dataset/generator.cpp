@@ -7,6 +7,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
@@ -264,52 +265,66 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
 
 }  // namespace
 
+const OptionTable<DatasetOptions>& datasetOptionTable() {
+  using O = DatasetOptions;
+  static const auto table =
+      OptionTable<O>()
+          .add("scenes", &O::scenes, OptionSpec("number of scenes (N_s)").range(1, 1000000))
+          .add("frames", &O::frames, OptionSpec("frames per scene (N_i)").range(1, 100000))
+          .add("first_seed", &O::first_seed,
+               OptionSpec("scene seeds first_seed .. first_seed + scenes - 1 (training seeds)"))
+          .add("size", &O::size, OptionSpec("image width and height").unit("px").range(64, 1024))
+          .add("source", &O::source,
+               OptionSpec("object catalogue").choices({"embedded", "sweethome3d", "folder"}))
+          .add("catalog_paths", &O::catalog_paths,
+               OptionSpec("a .sh3f file or folder (sweethome3d), the root (folder)")
+                   .flag("--path")
+                   .repeatable())
+          .add("categories", &O::categories,
+               OptionSpec("draw objects of these categories only (empty: any)")
+                   .flag("--category")
+                   .repeatable())
+          .add("num_objects", &O::num_objects,
+               OptionSpec("objects per scene").range(2, kMaxSceneObjects).flag("--objects"))
+          .add("max_move_steps", &O::max_move_steps,
+               OptionSpec("longest move between frames, in steps").range(1, 100))
+          .add("oracle_labels", &O::oracle_labels,
+               OptionSpec("the oracle's labels (leaving them out is much faster)")
+                   .negatedFlag("--no-oracle"))
+          .add("validation_fraction", &O::validation_fraction,
+               OptionSpec("fraction of whole scenes for validation")
+                   .range(0, 0.5)
+                   .flag("--validation"))
+          .add("threads", &O::threads,
+               OptionSpec("worker threads, one environment each").range(1, 64));
+  return table;
+}
+
 nlohmann::json DatasetOptions::definingJson() const {
-  return {{"first_seed", first_seed},
-          {"frames", frames},
-          {"size", size},
-          {"source", source},
-          {"catalog_paths", catalog_paths},
-          {"categories", categories},
-          {"num_objects", num_objects},
-          {"max_move_steps", max_move_steps},
-          {"oracle_labels", oracle_labels},
-          {"validation_fraction", validation_fraction},
-          {"model_split", "train"},
-          {"step_size_rad", EnvironmentOptions().step_size_rad}};
+  nlohmann::json json = datasetOptionTable().toJson(*this);
+  json.erase("scenes");  // a dataset may grow
+  json.erase("threads");
+  json["model_split"] = "train";
+  json["step_size_rad"] = EnvironmentOptions().step_size_rad;
+  return json;
 }
 
 void DatasetOptions::validate() const {
-  if (scenes < 1) throw InvalidArgumentError("scenes must be >= 1");
-  if (frames < 1 || frames > 100000) throw InvalidArgumentError("frames must be in [1, 100000]");
+  datasetOptionTable().check(*this);
   if (first_seed + static_cast<std::uint64_t>(scenes) > kFirstTestSeed) {
     throw InvalidArgumentError(
         "training scenes must use seeds below " + std::to_string(kFirstTestSeed) +
         " (test sets start there); first seed " + std::to_string(first_seed) + " + " +
         std::to_string(scenes) + " scenes reaches into them");
   }
-  if (size < 64 || size > 1024) throw InvalidArgumentError("size must be in [64, 1024] px");
-  if (max_move_steps < 1 || max_move_steps > 100)
-    throw InvalidArgumentError("max_move_steps must be in [1, 100]");
-  if (!(validation_fraction >= 0.0 && validation_fraction <= 0.5)) {
-    throw InvalidArgumentError("validation_fraction must be in [0, 0.5]");
-  }
-  if (threads < 1 || threads > 64) throw InvalidArgumentError("threads must be in [1, 64]");
-  if (num_objects < 2 || num_objects > kMaxSceneObjects) {
-    throw InvalidArgumentError("num_objects must be in [2, " + std::to_string(kMaxSceneObjects) +
-                               "]");
-  }
 }
 
-GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
-                                 const ProgressCallback& progress) {
-  options.validate();
-  const auto start = std::chrono::steady_clock::now();
-  EnvironmentOptions environment_options = environmentOptionsOf(options.definingJson());
-  environment_options.validate();
-  auto library = std::make_shared<ObjectLibrary>(makeCatalog(environment_options.catalog),
-                                                 environment_options.lod_triangle_budget);
-  const nlohmann::json manifest = manifestFor(options, library->catalog());
+namespace {
+
+/// Refuses a folder holding a dataset made with other defining options (naming them) or holding
+/// something else; then writes the manifest.
+void prepareFolder(const std::string& dir, const DatasetOptions& options,
+                   const nlohmann::json& manifest) {
   const fs::path manifest_path = fs::path(dir) / kManifestFile;
   if (fs::exists(manifest_path)) {
     std::ifstream in(manifest_path);
@@ -339,16 +354,14 @@ GenerationReport generateDataset(const std::string& dir, const DatasetOptions& o
   }
   fs::create_directories(fs::path(dir) / kSplitFolder);
   writeJsonFile(manifest_path, manifest);
+}
 
-  std::vector<int> todo;
-  GenerationReport report;
-  for (int index = 0; index < options.scenes; ++index) {
-    if (fs::exists(fs::path(sceneFolder(dir, index)) / kLabelsFile)) {
-      ++report.scenes_skipped;
-    } else {
-      todo.push_back(index);
-    }
-  }
+/// Writes the scenes `todo` on options.threads workers, one environment each; returns how many
+/// were written. The first worker's error is rethrown after all have stopped.
+int writeScenes(const std::string& dir, const DatasetOptions& options,
+                const EnvironmentOptions& environment_options,
+                const std::shared_ptr<ObjectLibrary>& library, const std::vector<int>& todo,
+                const ProgressCallback& progress) {
   std::atomic<std::size_t> next{0};
   std::atomic<bool> failed{false};
   std::mutex mutex;
@@ -378,6 +391,88 @@ GenerationReport generateDataset(const std::string& dir, const DatasetOptions& o
   for (int t = 0; t < threads; ++t) workers.emplace_back(work);
   for (std::thread& worker : workers) worker.join();
   if (error) std::rethrow_exception(error);
+  return done;
+}
+
+/// Re-renders one stored frame and compares its images and labels; `problem` is told of each
+/// difference.
+void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, const Frame& frame,
+                const std::function<void(const std::string&)>& problem) {
+  const FrameLabels& stored = frame.labels;
+  const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
+  const std::string folder = sceneFolder(dir, frame.scene_index);
+  const std::string name = idName(stored.image_id);
+  if (cv::norm(data.readRgb(frame), buffers.rgb, cv::NORM_INF) != 0.0) problem("rgb differs");
+  const cv::Mat depth = data.readDepthMeters(frame);
+  double worst_depth = 0.0;
+  bool holes_match = true;
+  for (int row = 0; row < depth.rows; ++row) {
+    for (int col = 0; col < depth.cols; ++col) {
+      const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
+      if (std::isnan(a) != std::isnan(b)) holes_match = false;
+      if (!std::isnan(a) && !std::isnan(b))
+        worst_depth = std::max(worst_depth, std::abs(double(a) - b));
+    }
+  }
+  if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
+    problem("depth differs (worst " + std::to_string(worst_depth) + " m)");
+  }
+  for (int object = 0; object < worker.environment.numObjects(); ++object) {
+    const cv::Mat amodal =
+        cv::imread(folder + "/mask/" + name + "_" + idName(object) + ".png", cv::IMREAD_GRAYSCALE);
+    const cv::Mat expected = (buffers.amodal_bits & (1 << object)) != 0;
+    if (amodal.empty() || cv::norm(amodal, expected, cv::NORM_INF) != 0.0) {
+      problem("amodal mask of object " + std::to_string(object) + " differs");
+    }
+  }
+  cv::Mat occlusion;
+  FrameLabels labels = viewLabels(worker, buffers, stored.pose, stored.image_id, occlusion);
+  if (cv::norm(data.readOcclusionMask(frame), occlusion, cv::NORM_INF) != 0.0) {
+    problem("occlusion mask differs");
+  }
+  if (labels.occlusion_px != stored.occlusion_px) problem("occlusion_px differs");
+  const auto close = [](double a, double b) {
+    return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(b));
+  };
+  if (!close(labels.smooth_loss_px, stored.smooth_loss_px) ||
+      !close(labels.gradient_azimuth, stored.gradient_azimuth) ||
+      !close(labels.gradient_elevation, stored.gradient_elevation) ||
+      labels.gradient_valid != stored.gradient_valid) {
+    problem("gradient label differs");
+  }
+  if (stored.has_oracle) {
+    addOracleLabels(worker, labels);
+    const bool same_escape =
+        labels.escape.has_value() == stored.escape.has_value() &&
+        (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
+    if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
+      problem("oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
+              std::to_string(stored.oracle_steps) + " steps)");
+    }
+  }
+}
+
+}  // namespace
+
+GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
+                                 const ProgressCallback& progress) {
+  options.validate();
+  const auto start = std::chrono::steady_clock::now();
+  EnvironmentOptions environment_options = environmentOptionsOf(options.definingJson());
+  environment_options.validate();
+  auto library = std::make_shared<ObjectLibrary>(makeCatalog(environment_options.catalog),
+                                                 environment_options.lod_triangle_budget);
+  prepareFolder(dir, options, manifestFor(options, library->catalog()));
+  std::vector<int> todo;
+  GenerationReport report;
+  for (int index = 0; index < options.scenes; ++index) {
+    if (fs::exists(fs::path(sceneFolder(dir, index)) / kLabelsFile)) {
+      ++report.scenes_skipped;
+    } else {
+      todo.push_back(index);
+    }
+  }
+  const int done = writeScenes(dir, options, environment_options, library, todo, progress);
   report.scenes_written = done;
   report.frames_written = done * options.frames;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -407,71 +502,18 @@ AuditReport auditDataset(const std::string& dir, int samples, std::uint64_t seed
   const EnvironmentOptions options = environmentOptionsOf(defining);
   Worker worker(options, nullptr);
   AuditReport report;
-  const auto problem = [&report](const Frame& frame, const std::string& what) {
-    ++report.failures;
-    if (report.problems.size() < 50) {
-      report.problems.push_back("scene " + idName(frame.scene_index) + " image " +
-                                idName(frame.labels.image_id) + ": " + what);
-    }
-  };
   for (const auto& [scene, frames] : by_scene) {
     const StepResult start = worker.environment.reset(frames.front()->scene_seed);
     worker.oracle.clear(start.info.pose);
     for (const Frame* frame : frames) {
       ++report.frames_checked;
-      const FrameLabels& stored = frame->labels;
-      const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
-      const std::string folder = sceneFolder(dir, frame->scene_index);
-      const std::string name = idName(stored.image_id);
-      if (cv::norm(data.readRgb(*frame), buffers.rgb, cv::NORM_INF) != 0.0)
-        problem(*frame, "rgb differs");
-      const cv::Mat depth = data.readDepthMeters(*frame);
-      double worst_depth = 0.0;
-      bool holes_match = true;
-      for (int row = 0; row < depth.rows; ++row) {
-        for (int col = 0; col < depth.cols; ++col) {
-          const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
-          if (std::isnan(a) != std::isnan(b)) holes_match = false;
-          if (!std::isnan(a) && !std::isnan(b))
-            worst_depth = std::max(worst_depth, std::abs(double(a) - b));
+      auditFrame(worker, data, dir, *frame, [&report, frame](const std::string& what) {
+        ++report.failures;
+        if (report.problems.size() < 50) {
+          report.problems.push_back("scene " + idName(frame->scene_index) + " image " +
+                                    idName(frame->labels.image_id) + ": " + what);
         }
-      }
-      if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
-        problem(*frame, "depth differs (worst " + std::to_string(worst_depth) + " m)");
-      }
-      for (int object = 0; object < worker.environment.numObjects(); ++object) {
-        const cv::Mat amodal = cv::imread(folder + "/mask/" + name + "_" + idName(object) + ".png",
-                                          cv::IMREAD_GRAYSCALE);
-        const cv::Mat expected = (buffers.amodal_bits & (1 << object)) != 0;
-        if (amodal.empty() || cv::norm(amodal, expected, cv::NORM_INF) != 0.0) {
-          problem(*frame, "amodal mask of object " + std::to_string(object) + " differs");
-        }
-      }
-      cv::Mat occlusion;
-      FrameLabels labels = viewLabels(worker, buffers, stored.pose, stored.image_id, occlusion);
-      if (cv::norm(data.readOcclusionMask(*frame), occlusion, cv::NORM_INF) != 0.0) {
-        problem(*frame, "occlusion mask differs");
-      }
-      if (labels.occlusion_px != stored.occlusion_px) problem(*frame, "occlusion_px differs");
-      const auto close = [](double a, double b) {
-        return std::abs(a - b) <= 1e-9 * (1.0 + std::abs(b));
-      };
-      if (!close(labels.smooth_loss_px, stored.smooth_loss_px) ||
-          !close(labels.gradient_azimuth, stored.gradient_azimuth) ||
-          !close(labels.gradient_elevation, stored.gradient_elevation) ||
-          labels.gradient_valid != stored.gradient_valid) {
-        problem(*frame, "gradient label differs");
-      }
-      if (stored.has_oracle) {
-        addOracleLabels(worker, labels);
-        const bool same_escape =
-            labels.escape.has_value() == stored.escape.has_value() &&
-            (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
-        if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
-          problem(*frame, "oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
-                              std::to_string(stored.oracle_steps) + " steps)");
-        }
-      }
+      });
     }
   }
   return report;

@@ -21,52 +21,108 @@ namespace learning {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+void addRunOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("backbone_path", &O::backbone_path,
+           OptionSpec("the pretrained multi-task network (.pt + .json)").flag("--backbone"))
+      .add("actor_from_escape", &O::actor_from_escape,
+           OptionSpec("start the actor at the network's escape head").flag(""))
+      .add("fine_tune", &O::fine_tune, OptionSpec("train the encoder too (with --backbone-lr)"))
+      .add("backbone_learning_rate", &O::backbone_learning_rate,
+           OptionSpec("the encoder's learning rate with --fine-tune")
+               .range(1e-9, 1)
+               .flag("--backbone-lr"))
+      .add("total_steps", &O::total_steps,
+           OptionSpec("environment steps in all").range(1, 1e12).flag("--steps"))
+      .add("steps_per_update", &O::steps_per_update, OptionSpec("N_u").range(2, 1e6))
+      .add("epochs", &O::epochs, OptionSpec("passes per update at most (K)").range(1, 10000))
+      .add("minibatch_size", &O::minibatch_size,
+           OptionSpec("steps per minibatch").range(2, 1e6).flag("--minibatch"));
+}
+
+void addPpoOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("actor_learning_rate", &O::actor_learning_rate,
+           OptionSpec("Adam learning rate of the actor").range(1e-9, 1).flag("--actor-lr"))
+      .add("critic_learning_rate", &O::critic_learning_rate,
+           OptionSpec("Adam learning rate of the critic").range(1e-9, 1).flag("--critic-lr"))
+      .add("gamma", &O::gamma, OptionSpec("discount").above(0).atMost(1))
+      .add("gae_lambda", &O::gae_lambda, OptionSpec("GAE lambda").range(0, 1).flag("--lambda"))
+      .add("clip_epsilon", &O::clip_epsilon,
+           OptionSpec("surrogate clip epsilon").above(0).below(1).flag("--clip"))
+      .add("action_std", &O::action_std,
+           OptionSpec("action sigma at the start").above(0).atMost(100).flag("--std"))
+      .add("action_std_end", &O::action_std_end,
+           OptionSpec("action sigma at the end (linear in steps)")
+               .above(0)
+               .atMost(100)
+               .flag("--std-end"))
+      .add("entropy_coefficient", &O::entropy_coefficient,
+           OptionSpec("entropy bonus coefficient").range(0, 100).flag("--entropy"))
+      .add("max_grad_norm", &O::max_grad_norm,
+           OptionSpec("gradient norm clip; 0 = none").range(0, 1e6))
+      .add("target_kl", &O::target_kl,
+           OptionSpec("stop an update's epochs above 1.5 * this; 0 = never").range(0, 100))
+      .add("normalize_advantages", &O::normalize_advantages,
+           OptionSpec("normalised advantages").negatedFlag("--no-advantage-norm"));
+}
+
+void addRecordOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("reward", &O::reward,
+           OptionSpec("the environments' reward normalisation: union (Agent-UN) | intersection "
+                      "(Agent-IN)")
+               .choices({"union", "intersection", "none"}))
+      .add("seed", &O::seed, OptionSpec("initial weights, actions and training seeds"))
+      .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256))
+      .add("checkpoint_every", &O::checkpoint_every,
+           OptionSpec("updates between checkpoints").range(1, 1e6));
+}
+
+OptionTable<PpoOptions> makePpoTable() {
+  OptionTable<PpoOptions> table;
+  addRunOptions(table);
+  addPpoOptions(table);
+  addRecordOptions(table);
+  return table;
+}
+
+}  // namespace
+
+const OptionTable<PpoOptions>& ppoOptionTable() {
+  static const OptionTable<PpoOptions> table = makePpoTable();
+  return table;
+}
+
+void applyPaperRecipe(PpoOptions& options) {
+  options.actor_from_escape = false;
+  options.policy.rig_inputs = false;
+  options.policy.unit_mean = false;
+  options.gae_lambda = 1.0;
+  options.minibatch_size = 200;
+  options.target_kl = 0.0;
+  options.max_grad_norm = 0.0;
+}
+
 void PpoOptions::validate() const {
-  const auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw InvalidArgumentError("ppo: " + what);
-  };
-  require(!backbone_path.empty(), "a pretrained network (backbone_path) is needed");
-  require(reward == "union" || reward == "intersection" || reward == "none",
-          "reward must be union, intersection or none");
-  require(total_steps >= 1, "total_steps must be >= 1");
-  require(steps_per_update >= 2, "steps_per_update must be >= 2");
-  require(epochs >= 1, "epochs must be >= 1");
-  require(minibatch_size >= 2, "minibatch_size must be >= 2");
-  require(actor_learning_rate > 0 && critic_learning_rate > 0 && backbone_learning_rate > 0,
-          "learning rates must be > 0");
-  require(gamma > 0 && gamma <= 1, "gamma must be in (0, 1]");
-  require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda must be in [0, 1]");
-  require(clip_epsilon > 0 && clip_epsilon < 1, "clip_epsilon must be in (0, 1)");
-  require(action_std > 0 && action_std_end > 0, "action_std and action_std_end must be > 0");
-  require(entropy_coefficient >= 0 && max_grad_norm >= 0 && target_kl >= 0,
-          "entropy_coefficient, max_grad_norm and target_kl must be >= 0");
-  require(threads >= 0 && checkpoint_every >= 1, "threads >= 0 and checkpoint_every >= 1");
+  ppoOptionTable().check(*this);
   policy.validate();
+  if (backbone_path.empty()) {
+    throw InvalidArgumentError("ppo: a pretrained network (backbone_path) is needed");
+  }
 }
 
 nlohmann::json PpoOptions::toJson() const {
-  return {{"backbone_path", backbone_path},
-          {"actor_from_escape", actor_from_escape},
-          {"fine_tune", fine_tune},
-          {"policy", policy.toJson()},
-          {"reward", reward},
-          {"total_steps", total_steps},
-          {"steps_per_update", steps_per_update},
-          {"epochs", epochs},
-          {"minibatch_size", minibatch_size},
-          {"actor_learning_rate", actor_learning_rate},
-          {"critic_learning_rate", critic_learning_rate},
-          {"backbone_learning_rate", backbone_learning_rate},
-          {"gamma", gamma},
-          {"gae_lambda", gae_lambda},
-          {"clip_epsilon", clip_epsilon},
-          {"action_std", action_std},
-          {"action_std_end", action_std_end},
-          {"entropy_coefficient", entropy_coefficient},
-          {"max_grad_norm", max_grad_norm},
-          {"target_kl", target_kl},
-          {"normalize_advantages", normalize_advantages},
-          {"seed", seed}};
+  nlohmann::json json = ppoOptionTable().toJson(*this);
+  json.erase("threads");  // neither changes the result
+  json.erase("checkpoint_every");
+  json["policy"] = policy.toJson();
+  return json;
 }
 
 namespace {
@@ -348,29 +404,87 @@ class PpoTrainer {
     return next_features;
   }
 
-  PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
-                     double std) {
-    // GAE over each environment's time line.
-    const int rows = steps_per_env * count_;
-    torch::Tensor advantages = torch::zeros({rows});
-    {
-      auto values = rollout.values.accessor<float, 1>();
-      auto rewards = rollout.rewards.accessor<float, 1>();
-      auto dones = rollout.dones.accessor<float, 1>();
-      auto last = last_values.accessor<float, 1>();
-      auto out = advantages.accessor<float, 1>();
-      for (int i = 0; i < count_; ++i) {
-        double gae = 0.0;
-        for (int t = steps_per_env - 1; t >= 0; --t) {
-          const int row = t * count_ + i;
-          const double next_value =
-              dones[row] > 0.5f ? 0.0 : (t + 1 < steps_per_env ? values[row + count_] : last[i]);
-          const double delta = rewards[row] + options_.gamma * next_value - values[row];
-          gae = delta + (dones[row] > 0.5f ? 0.0 : options_.gamma * options_.gae_lambda * gae);
-          out[row] = static_cast<float>(gae);
-        }
+  /// GAE over each environment's time line (not yet normalised).
+  torch::Tensor advantagesOf(const Rollout& rollout, const torch::Tensor& last_values,
+                             int steps_per_env) const {
+    torch::Tensor advantages = torch::zeros({steps_per_env * count_});
+    auto values = rollout.values.accessor<float, 1>();
+    auto rewards = rollout.rewards.accessor<float, 1>();
+    auto dones = rollout.dones.accessor<float, 1>();
+    auto last = last_values.accessor<float, 1>();
+    auto out = advantages.accessor<float, 1>();
+    for (int i = 0; i < count_; ++i) {
+      double gae = 0.0;
+      for (int t = steps_per_env - 1; t >= 0; --t) {
+        const int row = t * count_ + i;
+        const double next_value =
+            dones[row] > 0.5f ? 0.0 : (t + 1 < steps_per_env ? values[row + count_] : last[i]);
+        const double delta = rewards[row] + options_.gamma * next_value - values[row];
+        gae = delta + (dones[row] > 0.5f ? 0.0 : options_.gamma * options_.gae_lambda * gae);
+        out[row] = static_cast<float>(gae);
       }
     }
+    return advantages;
+  }
+
+  /// What one minibatch step measured.
+  struct MinibatchFigures {
+    double kl = 0.0, clip_fraction = 0.0, policy_loss = 0.0, value_loss = 0.0;
+  };
+
+  /// One clipped-surrogate step of actor, critic (and encoder when fine-tuned) on the rows
+  /// `index` of the rollout.
+  MinibatchFigures minibatchStep(const Rollout& rollout, const torch::Tensor& advantages,
+                                 const torch::Tensor& returns, const torch::Tensor& index,
+                                 double std, double entropy) {
+    const torch::Tensor features = options_.fine_tune
+                                       ? policy_->features(rollout.inputs.index_select(0, index))
+                                       : rollout.features.index_select(0, index);
+    const torch::Tensor rig = rollout.rig.index_select(0, index);
+    const torch::Tensor mean = policy_->actionMean(features, rig);
+    const torch::Tensor log_ratio =
+        gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
+        rollout.log_probs.index_select(0, index);
+    const torch::Tensor ratio = log_ratio.exp();
+    const torch::Tensor advantage = advantages.index_select(0, index);
+    const torch::Tensor surrogate = torch::min(
+        ratio * advantage,
+        ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
+    const torch::Tensor policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
+    const torch::Tensor value_error =
+        policy_->value(features, rig) - returns.index_select(0, index);
+    const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
+
+    actor_optimizer_->zero_grad();
+    critic_optimizer_->zero_grad();
+    if (backbone_optimizer_) backbone_optimizer_->zero_grad();
+    (policy_loss + value_loss).backward();
+    if (options_.max_grad_norm > 0) {
+      torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
+      torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
+      if (backbone_optimizer_) {
+        torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
+                                          options_.max_grad_norm);
+      }
+    }
+    actor_optimizer_->step();
+    critic_optimizer_->step();
+    if (backbone_optimizer_) backbone_optimizer_->step();
+
+    torch::NoGradGuard no_grad;
+    MinibatchFigures figures;
+    figures.kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
+    figures.clip_fraction =
+        ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
+    figures.policy_loss = policy_loss.item<double>();
+    figures.value_loss = value_loss.item<double>();
+    return figures;
+  }
+
+  PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
+                     double std) {
+    const int rows = steps_per_env * count_;
+    torch::Tensor advantages = advantagesOf(rollout, last_values, steps_per_env);
     const torch::Tensor returns = advantages + rollout.values;
     if (options_.normalize_advantages) {
       advantages = (advantages - advantages.mean()) / (advantages.std() + 1e-8);
@@ -381,7 +495,7 @@ class PpoTrainer {
     std::vector<int64_t> order(rows);
     std::iota(order.begin(), order.end(), 0);
     const int minibatch = std::min(options_.minibatch_size, rows);
-    double kl_sum = 0.0, clip_sum = 0.0, policy_sum = 0.0, value_sum = 0.0;
+    MinibatchFigures sum;
     int batches = 0;
     for (int epoch = 0; epoch < options_.epochs; ++epoch) {
       std::shuffle(order.begin(), order.end(), progress_.random);
@@ -390,50 +504,14 @@ class PpoTrainer {
       for (int first = 0; first + minibatch <= rows; first += minibatch) {
         const torch::Tensor index =
             torch::from_blob(order.data() + first, {minibatch}, torch::kLong).clone();
-        const torch::Tensor features =
-            options_.fine_tune ? policy_->features(rollout.inputs.index_select(0, index))
-                               : rollout.features.index_select(0, index);
-        const torch::Tensor rig = rollout.rig.index_select(0, index);
-        const torch::Tensor mean = policy_->actionMean(features, rig);
-        const torch::Tensor log_ratio =
-            gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
-            rollout.log_probs.index_select(0, index);
-        const torch::Tensor ratio = log_ratio.exp();
-        const torch::Tensor advantage = advantages.index_select(0, index);
-        const torch::Tensor surrogate = torch::min(
-            ratio * advantage,
-            ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
-        const torch::Tensor policy_loss =
-            -surrogate.mean() - options_.entropy_coefficient * update.entropy;
-        const torch::Tensor value_error =
-            policy_->value(features, rig) - returns.index_select(0, index);
-        const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
-
-        actor_optimizer_->zero_grad();
-        critic_optimizer_->zero_grad();
-        if (backbone_optimizer_) backbone_optimizer_->zero_grad();
-        (policy_loss + value_loss).backward();
-        if (options_.max_grad_norm > 0) {
-          torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
-          torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
-          if (backbone_optimizer_) {
-            torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
-                                              options_.max_grad_norm);
-          }
-        }
-        actor_optimizer_->step();
-        critic_optimizer_->step();
-        if (backbone_optimizer_) backbone_optimizer_->step();
-
-        torch::NoGradGuard no_grad;
-        const double kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
-        epoch_kl += kl;
+        const MinibatchFigures figures =
+            minibatchStep(rollout, advantages, returns, index, std, update.entropy);
+        epoch_kl += figures.kl;
         ++epoch_batches;
-        kl_sum += kl;
-        clip_sum +=
-            ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
-        policy_sum += policy_loss.item<double>();
-        value_sum += value_loss.item<double>();
+        sum.kl += figures.kl;
+        sum.clip_fraction += figures.clip_fraction;
+        sum.policy_loss += figures.policy_loss;
+        sum.value_loss += figures.value_loss;
         ++batches;
       }
       update.epochs_run = epoch + 1;
@@ -442,10 +520,10 @@ class PpoTrainer {
         break;
       }
     }
-    update.policy_loss = policy_sum / std::max(1, batches);
-    update.value_loss = value_sum / std::max(1, batches);
-    update.approx_kl = kl_sum / std::max(1, batches);
-    update.clip_fraction = clip_sum / std::max(1, batches);
+    update.policy_loss = sum.policy_loss / std::max(1, batches);
+    update.value_loss = sum.value_loss / std::max(1, batches);
+    update.approx_kl = sum.kl / std::max(1, batches);
+    update.clip_fraction = sum.clip_fraction / std::max(1, batches);
     const double return_variance = returns.var().item<double>();
     update.explained_variance =
         return_variance > 0

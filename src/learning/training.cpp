@@ -274,33 +274,48 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
   return samples;
 }
 
+const OptionTable<TrainingOptions>& trainingOptionTable() {
+  using O = TrainingOptions;
+  static const auto table =
+      OptionTable<O>()
+          .add("epochs", &O::epochs, OptionSpec("passes over the training frames").range(1, 10000))
+          .add("batch_size", &O::batch_size,
+               OptionSpec("frames per batch (>= 2: BatchNorm)").range(2, 4096).flag("--batch"))
+          .add("learning_rate", &O::learning_rate,
+               OptionSpec("AdamW learning rate, cosine-annealed to 0").range(1e-7, 1).flag("--lr"))
+          .add("weight_decay", &O::weight_decay, OptionSpec("AdamW weight decay").range(0, 1))
+          .add("direction_loss", &O::direction_loss,
+               OptionSpec("loss of the direction heads (smooth_l1: beta 0.01, the paper's -L1)")
+                   .choices({"mse", "smooth_l1"}))
+          .add("dice_weight", &O::dice_weight, OptionSpec("beta_1 (Eq. 12)").range(0, 1000))
+          .add("direction_weight", &O::direction_weight,
+               OptionSpec("beta_2, for each of the two direction heads").range(0, 1000))
+          .add("bce_weight", &O::bce_weight,
+               OptionSpec("adds this times a pixel-wise binary cross-entropy on the occlusion map "
+                          "to the paper's loss (0: the paper's loss)")
+                   .range(0, 1000))
+          .add("augment", &O::augment,
+               OptionSpec("colour jitter and horizontal flips").negatedFlag("--no-augment"))
+          .add("init_from", &O::init_from,
+               OptionSpec("start from this model's weights (a best.pt of an earlier run of the "
+                          "same network) instead of random ones: a new cosine schedule and a "
+                          "fresh optimizer on them (a warm restart); \"\": random weights"))
+          .add("seed", &O::seed, OptionSpec("weights, shuffling and augmentation"))
+          .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256));
+  return table;
+}
+
 void TrainingOptions::validate() const {
   network.validate();
-  if (epochs < 1) throw InvalidArgumentError("epochs must be >= 1");
-  if (batch_size < 2) throw InvalidArgumentError("batch_size must be >= 2 (BatchNorm)");
-  if (!(learning_rate > 0.0)) throw InvalidArgumentError("learning_rate must be > 0");
-  if (!(weight_decay >= 0.0)) throw InvalidArgumentError("weight_decay must be >= 0");
-  if (direction_loss != "mse" && direction_loss != "smooth_l1") {
-    throw InvalidArgumentError("direction_loss must be mse or smooth_l1");
-  }
-  if (threads < 0) throw InvalidArgumentError("threads must be >= 0");
-  if (!(bce_weight >= 0.0)) throw InvalidArgumentError("bce_weight must be >= 0");
+  trainingOptionTable().check(*this);
 }
 
 nlohmann::json TrainingOptions::toJson() const {
-  nlohmann::json json = {{"network", network.toJson()},
-                         {"epochs", epochs},
-                         {"batch_size", batch_size},
-                         {"learning_rate", learning_rate},
-                         {"weight_decay", weight_decay},
-                         {"dice_weight", dice_weight},
-                         {"direction_weight", direction_weight},
-                         {"bce_weight", bce_weight},
-                         {"direction_loss", direction_loss},
-                         {"augment", augment},
-                         {"seed", seed}};
+  nlohmann::json json = trainingOptionTable().toJson(*this);
+  json.erase("threads");  // does not change the result
   // Only when set, so that runs from random weights keep the identity they always had.
-  if (!init_from.empty()) json["init_from"] = init_from;
+  if (init_from.empty()) json.erase("init_from");
+  json["network"] = network.toJson();
   return json;
 }
 
@@ -356,29 +371,18 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   return m;
 }
 
-std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
-                                const std::string& run_dir, const TrainingCallbacks& callbacks) {
-  options.validate();
-  if (data.train.size() < options.batch_size) {
-    throw InvalidArgumentError("fewer training frames than one batch");
-  }
-  const int expected_size = options.network.input_size;
-  if (data.train.inputs.size(2) != expected_size) {
-    throw InvalidArgumentError("the data is at " + std::to_string(data.train.inputs.size(2)) +
-                               " px, the network at " + std::to_string(expected_size));
-  }
-  setLibtorchThreads(options.threads);
-  fs::create_directories(run_dir);
-  const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
-  const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
+namespace {
+
+/// What a run is made of: a checkpoint resumes only a run of the same identity. A warm restart's
+/// starting model (its manifest, checked to be the same network) is part of it.
+nlohmann::json runIdentity(const TrainingData& data, const TrainingOptions& options,
+                           nlohmann::json& init_manifest) {
   nlohmann::json identity = {{"options", options.toJson()},
                              {"dataset", data.dataset_dir},
                              {"dataset_options", data.dataset_manifest.at("options")},
                              {"train_frames", data.train.size()},
                              {"validation_frames", data.validation.size()}};
   if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
-  // The model a warm restart starts from: what it was (its manifest) is part of the run.
-  nlohmann::json init_manifest;
   if (!options.init_from.empty()) {
     init_manifest = readManifest(options.init_from);
     if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
@@ -390,15 +394,24 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     }
     identity["init_from_manifest"] = init_manifest;
   }
+  return identity;
+}
 
-  torch::manual_seed(options.seed);
-  MultiTaskUNet network(options.network);
-  torch::optim::AdamW optimizer(
-      network->parameters(),
-      torch::optim::AdamWOptions(options.learning_rate).weight_decay(options.weight_decay));
+/// Where a run stands: the epochs done, the best validation IoU so far.
+struct RunState {
   std::vector<EpochMetrics> history;
   double best_iou = -1.0;
-  int first_epoch = 1;
+  int firstEpoch() const { return static_cast<int>(history.size()) + 1; }
+};
+
+/// Loads the checkpoint of `run_dir` into `network` and `optimizer` when there is one (refusing
+/// one of another identity), else a warm restart's starting weights.
+RunState resumeOrStart(const std::string& run_dir, const nlohmann::json& identity,
+                       const TrainingOptions& options, MultiTaskUNet& network,
+                       torch::optim::AdamW& optimizer) {
+  const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
+  const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
+  RunState run;
   if (fs::exists(checkpoint_path) && fs::exists(state_path)) {
     std::ifstream in(state_path);
     const nlohmann::json state = nlohmann::json::parse(in);
@@ -414,98 +427,149 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     network->load(model_archive);
     optimizer.load(optimizer_archive);
     for (const nlohmann::json& epoch : state.at("history"))
-      history.push_back(epoch.get<EpochMetrics>());
-    best_iou = state.at("best_iou").get<double>();
-    first_epoch = static_cast<int>(history.size()) + 1;
+      run.history.push_back(epoch.get<EpochMetrics>());
+    run.best_iou = state.at("best_iou").get<double>();
   } else if (!options.init_from.empty()) {
     loadCheckedParameters(*network, options.init_from,
                           "the network being trained (" + options.network.toJson().dump() + ")");
   }
+  return run;
+}
 
+/// One epoch's passes over the shuffled training frames with the cosine schedule; returns the
+/// mean training loss and sets `rate` to the last learning rate used.
+double trainEpoch(const TrainingData& data, const TrainingOptions& options, int epoch,
+                  MultiTaskUNet& network, torch::optim::AdamW& optimizer,
+                  const TrainingCallbacks& callbacks, double& rate) {
   const int64_t n = data.train.size();
   const int batches =
       static_cast<int>(n / options.batch_size);  // the last partial batch is dropped
   const double total_batches = static_cast<double>(batches) * options.epochs;
-  for (int epoch = first_epoch; epoch <= options.epochs; ++epoch) {
-    const auto start = std::chrono::steady_clock::now();
-    torch::manual_seed(options.seed * 1000003ull + static_cast<std::uint64_t>(epoch));
-    const torch::Tensor order = torch::randperm(n, torch::kLong);
-    network->train();
-    double loss_sum = 0.0;
-    double rate = options.learning_rate;
-    for (int b = 0; b < batches; ++b) {
-      const double progress = ((epoch - 1) * static_cast<double>(batches) + b) / total_batches;
-      rate = options.learning_rate * 0.5 * (1.0 + std::cos(M_PI * progress));
-      setLearningRate(optimizer, rate);
-      Batch batch =
-          batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
-      if (options.augment) augment(batch);
-      const NetworkOutput out = network->forward(batch.inputs);
-      torch::Tensor loss =
-          options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
-          options.direction_weight *
-              (maskedMean(
-                   directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
-                   batch.gradient_valid) +
-               maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
-                          batch.escape_valid));
-      if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
-        loss = loss + options.bce_weight * torch::binary_cross_entropy_with_logits(
-                                               out.occlusion_logits, batch.masks);
-      }
-      optimizer.zero_grad();
-      loss.backward();
-      optimizer.step();
-      loss_sum += loss.item<double>();
-      if (callbacks.on_batch) callbacks.on_batch(epoch, b + 1, batches);
+  torch::manual_seed(options.seed * 1000003ull + static_cast<std::uint64_t>(epoch));
+  const torch::Tensor order = torch::randperm(n, torch::kLong);
+  network->train();
+  double loss_sum = 0.0;
+  rate = options.learning_rate;
+  for (int b = 0; b < batches; ++b) {
+    const double progress = ((epoch - 1) * static_cast<double>(batches) + b) / total_batches;
+    rate = options.learning_rate * 0.5 * (1.0 + std::cos(M_PI * progress));
+    setLearningRate(optimizer, rate);
+    Batch batch =
+        batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
+    if (options.augment) augment(batch);
+    const NetworkOutput out = network->forward(batch.inputs);
+    torch::Tensor loss =
+        options.dice_weight * softDiceLoss(out.occlusion_logits, batch.masks) +
+        options.direction_weight *
+            (maskedMean(
+                 directionLoss(out.gradient_direction, batch.gradient, options.direction_loss),
+                 batch.gradient_valid) +
+             maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
+                        batch.escape_valid));
+    if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
+      loss = loss + options.bce_weight *
+                        torch::binary_cross_entropy_with_logits(out.occlusion_logits, batch.masks);
     }
+    optimizer.zero_grad();
+    loss.backward();
+    optimizer.step();
+    loss_sum += loss.item<double>();
+    if (callbacks.on_batch) callbacks.on_batch(epoch, b + 1, batches);
+  }
+  return loss_sum / std::max(1, batches);
+}
+
+/// best.pt with its manifest: the options, the data, the epoch's figures and, for a warm
+/// restart, the model it started from.
+void saveBest(const std::string& run_dir, const TrainingData& data, const TrainingOptions& options,
+              const nlohmann::json& init_manifest, const EpochMetrics& metrics,
+              MultiTaskUNet& network) {
+  nlohmann::json info = {{"training", options.toJson()},
+                         {"dataset", data.dataset_dir},
+                         {"dataset_options", data.dataset_manifest.at("options")},
+                         {"train_frames", data.train.size()},
+                         {"validation_frames", data.validation.size()},
+                         {"epoch", metrics.epoch},
+                         {"validation", metrics.toJson()}};
+  if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
+  if (!options.init_from.empty()) {
+    info["initialised_from"] = {
+        {"model", options.init_from},
+        {"training", init_manifest.value("training", nlohmann::json())},
+        {"epoch", init_manifest.value("epoch", 0)},
+        {"validation", init_manifest.value("validation", nlohmann::json())}};
+  }
+  saveModel(network, (fs::path(run_dir) / "best.pt").string(), info);
+}
+
+/// checkpoint.pt and checkpoint.json, each written next to the old one and renamed over it; and
+/// log.csv.
+void saveCheckpoint(const std::string& run_dir, const nlohmann::json& identity, const RunState& run,
+                    MultiTaskUNet& network, torch::optim::AdamW& optimizer) {
+  const fs::path checkpoint_path = fs::path(run_dir) / "checkpoint.pt";
+  const fs::path state_path = fs::path(run_dir) / "checkpoint.json";
+  torch::serialize::OutputArchive archive, model_archive, optimizer_archive;
+  network->save(model_archive);
+  optimizer.save(optimizer_archive);
+  archive.write("model", model_archive);
+  archive.write("optimizer", optimizer_archive);
+  archive.save_to(checkpoint_path.string() + ".tmp");
+  fs::rename(checkpoint_path.string() + ".tmp", checkpoint_path);
+  nlohmann::json state = {
+      {"identity", identity}, {"best_iou", run.best_iou}, {"history", nlohmann::json::array()}};
+  for (const EpochMetrics& m : run.history) state["history"].push_back(m.toJson());
+  std::ofstream(state_path.string() + ".tmp") << state.dump(1);
+  fs::rename(state_path.string() + ".tmp", state_path);
+  writeLog((fs::path(run_dir) / "log.csv").string(), run.history);
+}
+
+}  // namespace
+
+std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
+                                const std::string& run_dir, const TrainingCallbacks& callbacks) {
+  options.validate();
+  if (data.train.size() < options.batch_size) {
+    throw InvalidArgumentError("fewer training frames than one batch");
+  }
+  const int expected_size = options.network.input_size;
+  if (data.train.inputs.size(2) != expected_size) {
+    throw InvalidArgumentError("the data is at " + std::to_string(data.train.inputs.size(2)) +
+                               " px, the network at " + std::to_string(expected_size));
+  }
+  setLibtorchThreads(options.threads);
+  fs::create_directories(run_dir);
+  nlohmann::json init_manifest;
+  const nlohmann::json identity = runIdentity(data, options, init_manifest);
+
+  torch::manual_seed(options.seed);
+  MultiTaskUNet network(options.network);
+  torch::optim::AdamW optimizer(
+      network->parameters(),
+      torch::optim::AdamWOptions(options.learning_rate).weight_decay(options.weight_decay));
+  RunState run = resumeOrStart(run_dir, identity, options, network, optimizer);
+  const int batches = static_cast<int>(data.train.size() / options.batch_size);
+  for (int epoch = run.firstEpoch(); epoch <= options.epochs; ++epoch) {
+    const auto start = std::chrono::steady_clock::now();
+    double rate = options.learning_rate;
+    const double train_loss = trainEpoch(data, options, epoch, network, optimizer, callbacks, rate);
     const double train_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EpochMetrics metrics = evaluate(network, data.validation, 64, options.direction_loss);
     metrics.epoch = epoch;
     metrics.learning_rate = rate;
-    metrics.train_loss = loss_sum / std::max(1, batches);
+    metrics.train_loss = train_loss;
     metrics.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     metrics.images_per_second = batches * options.batch_size / train_seconds;
-    history.push_back(metrics);
-
-    if (metrics.val_iou > best_iou) {
-      best_iou = metrics.val_iou;
-      nlohmann::json info = {{"training", options.toJson()},
-                             {"dataset", data.dataset_dir},
-                             {"dataset_options", data.dataset_manifest.at("options")},
-                             {"train_frames", data.train.size()},
-                             {"validation_frames", data.validation.size()},
-                             {"epoch", epoch},
-                             {"validation", metrics.toJson()}};
-      if (!data.extra_dataset_dirs.empty()) info["extra_datasets"] = data.extra_dataset_dirs;
-      if (!options.init_from.empty()) {
-        info["initialised_from"] = {
-            {"model", options.init_from},
-            {"training", init_manifest.value("training", nlohmann::json())},
-            {"epoch", init_manifest.value("epoch", 0)},
-            {"validation", init_manifest.value("validation", nlohmann::json())}};
-      }
-      saveModel(network, (fs::path(run_dir) / "best.pt").string(), info);
+    run.history.push_back(metrics);
+    if (metrics.val_iou > run.best_iou) {
+      run.best_iou = metrics.val_iou;
+      saveBest(run_dir, data, options, init_manifest, metrics, network);
     }
-    // Checkpoint: written next to the old one, then renamed over it.
-    torch::serialize::OutputArchive archive, model_archive, optimizer_archive;
-    network->save(model_archive);
-    optimizer.save(optimizer_archive);
-    archive.write("model", model_archive);
-    archive.write("optimizer", optimizer_archive);
-    archive.save_to(checkpoint_path.string() + ".tmp");
-    fs::rename(checkpoint_path.string() + ".tmp", checkpoint_path);
-    nlohmann::json state = {
-        {"identity", identity}, {"best_iou", best_iou}, {"history", nlohmann::json::array()}};
-    for (const EpochMetrics& m : history) state["history"].push_back(m.toJson());
-    std::ofstream(state_path.string() + ".tmp") << state.dump(1);
-    fs::rename(state_path.string() + ".tmp", state_path);
-    writeLog((fs::path(run_dir) / "log.csv").string(), history);
+    saveCheckpoint(run_dir, identity, run, network, optimizer);
     if (callbacks.on_epoch) callbacks.on_epoch(metrics);
   }
-  return history;
+  return run.history;
 }
 
 std::string loadedBlasLibrary() {

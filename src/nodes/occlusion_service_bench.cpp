@@ -1,10 +1,8 @@
 // occlusion_service_bench: what the ROS service adds to a step. Waits for the simulator's reset
-// and step services (~timeout, default 60 s), times `steps` steps through them (the
-// EnvironmentClient every agent node uses: persistent connections) and the same steps on an
-// in-process Environment built from the simulator's own parameters, then prints both medians and
-// the difference. Exits 1, saying why, when it cannot measure. Private parameters: ~steps
-// (default 500), ~seed (default 1), ~timeout [s], ~simulator (the simulator node's name, default
-// /occlusion_sim, whose parameters give the options).
+// and step services (~timeout), times ~steps steps through them (the EnvironmentClient every
+// agent node uses: persistent connections) and the same steps on an in-process Environment built
+// from the simulator's own parameters (~simulator), then prints both medians and the difference.
+// Exits 1, saying why, when it cannot measure. Private parameters: benchOptionTable().
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -52,26 +50,43 @@ std::vector<double> timeSteps(int steps, const std::function<void()>& reset,
   return milliseconds;
 }
 
+/// The benchmark's private parameters.
+struct BenchOptions {
+  int steps = 500;
+  int seed = 1;
+  double timeout_s = 60.0;  // for the simulator's services to come up
+  std::string simulator = std::string("/") + occlusion_env::names::kSimulatorNode;
+};
+
+const occlusion_env::OptionTable<BenchOptions>& benchOptionTable() {
+  using occlusion_env::OptionSpec;
+  static const auto table =
+      occlusion_env::OptionTable<BenchOptions>()
+          .add("steps", &BenchOptions::steps, OptionSpec("timed steps on each side").atLeast(2))
+          .add("seed", &BenchOptions::seed, OptionSpec("scene seed of every episode").atLeast(0))
+          .add("timeout", &BenchOptions::timeout_s,
+               OptionSpec("wait this long for the simulator's services").unit("s").above(0))
+          .add("simulator", &BenchOptions::simulator,
+               OptionSpec("the simulator node, whose parameters give the in-process options"));
+  return table;
+}
+
 int run(ros::NodeHandle& private_node, ros::NodeHandle& node) {
-  const int steps = private_node.param("steps", 500);
-  const int seed = private_node.param("seed", 1);
-  const double timeout_s = private_node.param("timeout", 60.0);
-  const std::string simulator = private_node.param<std::string>(
-      "simulator", std::string("/") + occlusion_env::names::kSimulatorNode);
-  if (steps < 2) throw std::invalid_argument("~steps must be >= 2");
+  BenchOptions bench;
+  occlusion_env::readParameters(private_node, benchOptionTable(), bench);
 
   // Every service it uses must be up before the first call: the simulator advertises them one
   // after the other, after its start-up reset.
-  occlusion_env::EnvironmentClient client(node, {timeout_s, /*reset_attempts=*/1});
+  occlusion_env::EnvironmentClient client(node, {bench.timeout_s, /*reset_attempts=*/1});
   client.connect();
   const occlusion_env::SimulatorOptions options =
-      occlusion_env::readSimulatorOptions(ros::NodeHandle(simulator));
+      occlusion_env::readSimulatorOptions(ros::NodeHandle(bench.simulator));
 
   // In-process: the same options, seed and action sequence.
   occlusion_env::Environment environment(options.environment);
   const auto timed_steps = [&](occlusion_env::EnvironmentInterface& target) {
     return timeSteps(
-        steps, [&] { target.reset(seed); },
+        bench.steps, [&] { target.reset(bench.seed); },
         [&](int i) {
           const Clock::time_point start = Clock::now();
           const occlusion_env::StepResult result = target.step(actionAt(i));
@@ -84,8 +99,8 @@ int run(ros::NodeHandle& private_node, ros::NodeHandle& node) {
 
   const double local_median = percentile(local, 0.5);
   const double remote_median = percentile(remote, 0.5);
-  std::printf("%d steps at %dx%d, seed %d\n", steps, options.environment.width,
-              options.environment.height, seed);
+  std::printf("%d steps at %dx%d, seed %d\n", bench.steps, options.environment.width,
+              options.environment.height, bench.seed);
   std::printf("in-process step:    median %.3f ms, p90 %.3f ms\n", local_median,
               percentile(local, 0.9));
   std::printf("service round trip: median %.3f ms, p90 %.3f ms\n", remote_median,

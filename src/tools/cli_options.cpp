@@ -60,4 +60,14 @@ int parseCommandLine(CLI::App& app, int argc, const char* const* argv) {
   return -1;
 }
 
+int parseAndRun(CLI::App& app, int argc, const char* const* argv, const std::function<int()>& run) {
+  if (const int exit_code = parseCommandLine(app, argc, argv); exit_code >= 0) return exit_code;
+  try {
+    return run();
+  } catch (const std::exception& error) {
+    std::cerr << "\n" << app.get_name() << ": " << error.what() << "\n";
+    return 1;
+  }
+}
+
 }  // namespace occlusion_env::tools

@@ -27,7 +27,13 @@ struct OracleOptions {
   double lattice_spacing_steps = 0.5;  // s / h, in (0, 1]
   int circle_directions = 64;          // poses tried on the one-step circle
   int max_steps = 50;                  // search radius: no answer beyond max_steps * h
+
+  /// Throws InvalidArgumentError naming the first option out of its declared range.
+  void validate() const;
 };
+
+/// The declared options of OracleOptions (flag --spacing for the lattice spacing).
+const OptionTable<OracleOptions>& oracleOptionTable();
 
 struct OracleAnswer {
   /// Fewest steps to an unoccluded view; 0 when the pose is unoccluded; -1 when there is none
@@ -61,6 +67,13 @@ class OcclusionOracle {
   std::int64_t occlusionAt(const SphericalPose& pose);
   std::int64_t occlusionAtLattice(const LatticeIndex& index);
   SphericalPose latticePose(const LatticeIndex& index) const;
+  /// The offset [rad] from `pose` of the nearest lattice pose whose occlusion is at most
+  /// `threshold` pixels, within max_steps steps; false when there is none.
+  bool nearestClearLatticeOffset(const SphericalPose& pose, double threshold,
+                                 std::pair<double, double>& offset_rad);
+  /// A single step from `pose` to a view whose occlusion is at most `threshold` pixels (one of
+  /// circle_directions); false when there is none.
+  bool clearOneStep(const SphericalPose& pose, double threshold, Action& step);
 
   Environment& environment_;
   OracleOptions options_;
