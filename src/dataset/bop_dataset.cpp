@@ -61,15 +61,18 @@ std::string sceneFolder(const std::string& dir, int scene_index) {
 }
 
 nlohmann::json toJson(const FrameLabels& labels) {
-  return {{"azimuth_rad", labels.pose.azimuth_rad},
-          {"elevation_rad", labels.pose.elevation_rad},
-          {"occlusion_px", labels.occlusion_px},
-          {"smooth_loss_px", labels.smooth_loss_px},
-          {"gradient_px_per_rad", {labels.gradient_azimuth, labels.gradient_elevation}},
-          {"gradient_valid", labels.gradient_valid},
-          {"descent_direction", directionJson(labels.descent)},
-          {"oracle_steps", labels.has_oracle ? nlohmann::json(labels.oracle_steps) : nullptr},
-          {"escape_direction", directionJson(labels.escape)}};
+  nlohmann::json json = {
+      {"azimuth_rad", labels.pose.azimuth_rad},
+      {"elevation_rad", labels.pose.elevation_rad},
+      {"occlusion_px", labels.occlusion_px},
+      {"smooth_loss_px", labels.smooth_loss_px},
+      {"gradient_px_per_rad", {labels.gradient_azimuth, labels.gradient_elevation}},
+      {"gradient_valid", labels.gradient_valid},
+      {"descent_direction", directionJson(labels.descent)},
+      {"oracle_steps", labels.has_oracle ? nlohmann::json(labels.oracle_steps) : nullptr},
+      {"escape_direction", directionJson(labels.escape)}};
+  if (labels.setup) json.update(labels.setup->toJson());
+  return json;
 }
 
 FrameLabels labelsFromJson(const nlohmann::json& json, int image_id) {
@@ -86,6 +89,7 @@ FrameLabels labelsFromJson(const nlohmann::json& json, int image_id) {
   labels.has_oracle = !json.at("oracle_steps").is_null();
   labels.oracle_steps = labels.has_oracle ? json.at("oracle_steps").get<int>() : -1;
   labels.escape = directionFromJson(json.at("escape_direction"));
+  if (json.contains("world")) labels.setup = SceneSetup::fromJson(json);
   return labels;
 }
 

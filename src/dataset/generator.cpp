@@ -77,14 +77,26 @@ nlohmann::json boundingBox(const cv::Mat& mask) {
   return {box.x, box.y, box.width, box.height};
 }
 
+/// A string option of a manifest, unset where it is null or missing (manifests from before it).
+std::optional<std::string> optionalString(const nlohmann::json& defining, const char* key) {
+  if (!defining.contains(key) || defining.at(key).is_null()) return std::nullopt;
+  return defining.at(key).get<std::string>();
+}
+
 EnvironmentOptions environmentOptionsOf(const nlohmann::json& defining) {
   EnvironmentOptions options;
+  applySceneRandomization(options, optionalString(defining, "world"),
+                          optionalString(defining, "depth_sensor"),
+                          defining.value("randomize", false));
   options.width = options.height = defining.at("size").get<int>();
   options.catalog.source = defining.at("source").get<std::string>();
   options.catalog.paths = defining.at("catalog_paths").get<std::vector<std::string>>();
   options.scene.categories = defining.at("categories").get<std::vector<std::string>>();
   options.scene.num_objects = defining.at("num_objects").get<int>();
   options.scene.model_split = parseModelSplit(defining.at("model_split").get<std::string>());
+  if (defining.contains("camera_randomization")) {
+    environmentOptionTable().applyJson(defining.at("camera_randomization"), options);
+  }
   return options;
 }
 
@@ -144,74 +156,98 @@ std::vector<SphericalPose> framePoses(const Environment& environment, const Sphe
   return poses;
 }
 
+// The frame's colour and depth as PNGs: what the sensor gives (the observation).
+void writeFrameImages(Worker& worker, const fs::path& folder, const std::string& name,
+                      const Observation& seen) {
+  cv::cvtColor(seen.rgb, worker.bgr, cv::COLOR_RGB2BGR);
+  writePng(folder / "rgb" / (name + ".png"), worker.bgr);
+  worker.depth16.create(seen.depth.size(), CV_16UC1);
+  for (int row = 0; row < seen.depth.rows; ++row) {
+    const float* in = seen.depth.ptr<float>(row);
+    std::uint16_t* out = worker.depth16.ptr<std::uint16_t>(row);
+    for (int col = 0; col < seen.depth.cols; ++col) {
+      const double units = std::round(in[col] * 1000.0 / kDepthScaleMm);
+      out[col] =
+          std::isfinite(in[col]) ? static_cast<std::uint16_t>(std::clamp(units, 1.0, 65535.0)) : 0;
+    }
+  }
+  writePng(folder / "depth" / (name + ".png"), worker.depth16);
+}
+
+// The BOP ground truth of one frame: per object its pose, masks and their counts.
+void writeObjects(const Environment& environment, const fs::path& folder, const std::string& name,
+                  const Eigen::Isometry3d& optical_from_world, nlohmann::json& gt,
+                  nlohmann::json& info) {
+  const RenderBuffers& buffers = environment.renderBuffers();
+  const Scene& scene = environment.scene();
+  gt = nlohmann::json::array();
+  info = nlohmann::json::array();
+  for (int object = 0; object < environment.numObjects(); ++object) {
+    // A scaled scene (camera randomisation): the pose of the model scaled by scene_scale.
+    const Eigen::Isometry3d optical_from_object =
+        optical_from_world * Eigen::Translation3d(scene.scale * scene.objects[object].position_m);
+    gt.push_back({{"cam_R_m2c", rowMajor(optical_from_object.linear())},
+                  {"cam_t_m2c", millimetres(optical_from_object.translation())},
+                  {"obj_id", object + 1}});
+    const cv::Mat amodal = (buffers.amodal_bits & (1 << object)) != 0;
+    const cv::Mat visible = buffers.instance == (object + 1);
+    const std::string mask_name = name + "_" + idName(object) + ".png";
+    writePng(folder / "mask" / mask_name, amodal);
+    writePng(folder / "mask_visib" / mask_name, visible);
+    const int all = cv::countNonZero(amodal), visible_count = cv::countNonZero(visible);
+    info.push_back({{"bbox_obj", boundingBox(amodal)},
+                    {"bbox_visib", boundingBox(visible)},
+                    {"px_count_all", all},
+                    {"px_count_valid", all},  // depth is valid wherever something is hit
+                    {"px_count_visib", visible_count},
+                    {"visib_fract", all > 0 ? static_cast<double>(visible_count) / all : 0.0}});
+  }
+}
+
+nlohmann::json cameraEntry(const Environment& environment,
+                           const Eigen::Isometry3d& optical_from_world) {
+  const CameraIntrinsics& k = environment.intrinsics();
+  const Eigen::Matrix3d camera_matrix =
+      (Eigen::Matrix3d() << k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0).finished();
+  nlohmann::json entry = {{"cam_K", rowMajor(camera_matrix)},
+                          {"depth_scale", kDepthScaleMm},
+                          {"cam_R_w2c", rowMajor(optical_from_world.linear())},
+                          {"cam_t_w2c", millimetres(optical_from_world.translation())}};
+  const double scale = environment.scene().scale;
+  if (scale != 1.0) entry["scene_scale"] = scale;  // world metres per model metre
+  return entry;
+}
+
+// Frame k of a scene: the view at its pose through the sensor, in frame order (the sensor's
+// noise follows its episode stream), so an audit replays frames 0..k to see it again.
 void writeScene(Worker& worker, const std::string& dir, int index, std::uint64_t seed,
                 const DatasetOptions& options) {
   Environment& environment = worker.environment;
   const StepResult start = environment.reset(seed);
-  const int num_objects = environment.numObjects();
   const fs::path folder = sceneFolder(dir, index);
   for (const char* sub : {"rgb", "depth", "mask", "mask_visib", "occlusion"}) {
     fs::create_directories(folder / sub);
   }
   worker.oracle.clear(start.info.pose);
-  const CameraIntrinsics& k = environment.intrinsics();
-  const Eigen::Matrix3d camera_matrix =
-      (Eigen::Matrix3d() << k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0).finished();
   nlohmann::json scene_camera, scene_gt, scene_gt_info, scene_labels;
   const std::vector<SphericalPose> poses = framePoses(environment, start.info.pose, seed, options);
   for (int image = 0; image < options.frames; ++image) {
     const SphericalPose& pose = poses[image];
-    const RenderBuffers& buffers = environment.renderAt(pose);
+    environment.viewFrom(pose);  // the truth in renderBuffers(), the sensor's in observation()
     const std::string name = idName(image);
-    cv::cvtColor(buffers.rgb, worker.bgr, cv::COLOR_RGB2BGR);
-    writePng(folder / "rgb" / (name + ".png"), worker.bgr);
-    worker.depth16.create(buffers.depth.size(), CV_16UC1);
-    for (int row = 0; row < buffers.depth.rows; ++row) {
-      const float* in = buffers.depth.ptr<float>(row);
-      std::uint16_t* out = worker.depth16.ptr<std::uint16_t>(row);
-      for (int col = 0; col < buffers.depth.cols; ++col) {
-        const double units = std::round(in[col] * 1000.0 / kDepthScaleMm);
-        out[col] = std::isfinite(in[col])
-                       ? static_cast<std::uint16_t>(std::clamp(units, 1.0, 65535.0))
-                       : 0;
-      }
-    }
-    writePng(folder / "depth" / (name + ".png"), worker.depth16);
-
+    const std::string key = std::to_string(image);
+    writeFrameImages(worker, folder, name, environment.observation());
     const Eigen::Isometry3d optical_from_world =
         environment.camera().worldFromOptical(pose).inverse();
-    scene_camera[std::to_string(image)] = {
-        {"cam_K", rowMajor(camera_matrix)},
-        {"depth_scale", kDepthScaleMm},
-        {"cam_R_w2c", rowMajor(optical_from_world.linear())},
-        {"cam_t_w2c", millimetres(optical_from_world.translation())}};
-    nlohmann::json gt = nlohmann::json::array(), info = nlohmann::json::array();
-    for (int object = 0; object < num_objects; ++object) {
-      const Eigen::Isometry3d optical_from_object =
-          optical_from_world * Eigen::Translation3d(environment.scene().objects[object].position_m);
-      gt.push_back({{"cam_R_m2c", rowMajor(optical_from_object.linear())},
-                    {"cam_t_m2c", millimetres(optical_from_object.translation())},
-                    {"obj_id", object + 1}});
-      const cv::Mat amodal = (buffers.amodal_bits & (1 << object)) != 0;
-      const cv::Mat visible = buffers.instance == (object + 1);
-      const std::string mask_name = name + "_" + idName(object) + ".png";
-      writePng(folder / "mask" / mask_name, amodal);
-      writePng(folder / "mask_visib" / mask_name, visible);
-      const int all = cv::countNonZero(amodal), visible_count = cv::countNonZero(visible);
-      info.push_back({{"bbox_obj", boundingBox(amodal)},
-                      {"bbox_visib", boundingBox(visible)},
-                      {"px_count_all", all},
-                      {"px_count_valid", all},  // depth is valid wherever something is hit
-                      {"px_count_visib", visible_count},
-                      {"visib_fract", all > 0 ? static_cast<double>(visible_count) / all : 0.0}});
-    }
-    scene_gt[std::to_string(image)] = gt;
-    scene_gt_info[std::to_string(image)] = info;
+    scene_camera[key] = cameraEntry(environment, optical_from_world);
+    writeObjects(environment, folder, name, optical_from_world, scene_gt[key], scene_gt_info[key]);
 
-    FrameLabels labels = viewLabels(worker, buffers, pose, image, worker.occlusion);
+    FrameLabels labels =
+        viewLabels(worker, environment.renderBuffers(), pose, image, worker.occlusion);
+    labels.setup = environment.sceneSetup();
     writePng(folder / "occlusion" / (name + ".png"), worker.occlusion);
     if (options.oracle_labels) addOracleLabels(worker, labels);  // renders elsewhere: last
-    scene_labels[std::to_string(image)] = toJson(labels);
+    scene_labels[key] = toJson(labels);
   }
   writeJsonFile(folder / "scene_camera.json", scene_camera);
   writeJsonFile(folder / "scene_gt.json", scene_gt);
@@ -262,6 +298,18 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
       {"scenes", scenes}};
 }
 
+// The environment's camera-randomisation options by their names (what a randomised set records).
+const std::vector<std::string> kCameraRandomizationKeys = {
+    "radius_range", "field_of_view_range", "resolution_scale_range", "focal_length_jitter",
+    "principal_point_jitter"};
+
+nlohmann::json cameraRandomizationJson(const EnvironmentOptions& options) {
+  const nlohmann::json all = environmentOptionTable().toJson(options);
+  nlohmann::json json = nlohmann::json::object();
+  for (const std::string& key : kCameraRandomizationKeys) json[key] = all.at(key);
+  return json;
+}
+
 }  // namespace
 
 const OptionTable<DatasetOptions>& datasetOptionTable() {
@@ -290,6 +338,17 @@ const OptionTable<DatasetOptions>& datasetOptionTable() {
           .add("oracle_labels", &O::oracle_labels,
                OptionSpec("the oracle's labels (leaving them out is much faster)")
                    .negatedFlag("--no-oracle"))
+          .add("world", &O::world,
+               OptionSpec("around the targets (unset: void, or random with --randomize)")
+                   .choices({"void", "room", "random"}))
+          .add("depth_sensor", &O::depth_sensor,
+               OptionSpec("the camera's depth sensor; the frames are what it gives (unset: "
+                          "ideal, or random with --randomize)")
+                   .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
+          .add("randomize", &O::randomize,
+               OptionSpec("draw per scene the camera (radius, field of view, resolution, "
+                          "intrinsics) and, unless given, world and depth sensor; recorded in "
+                          "each frame's labels"))
           .add("validation_fraction", &O::validation_fraction,
                OptionSpec("fraction of whole scenes for validation")
                    .range(0, 0.5)
@@ -305,6 +364,7 @@ nlohmann::json DatasetOptions::definingJson() const {
   json.erase("threads");
   json["model_split"] = "train";
   json["step_size_rad"] = EnvironmentOptions().step_size_rad;
+  if (randomize) json["camera_randomization"] = cameraRandomizationJson(EnvironmentOptions());
   return json;
 }
 
@@ -333,8 +393,13 @@ void requireResumable(const std::string& dir, const fs::path& manifest_path,
       throw InvalidArgumentError(manifest_path.string() +
                                  " is not a dataset manifest: " + error.what());
     }
-    const nlohmann::json theirs = existing.value("options", nlohmann::json::object());
+    nlohmann::json theirs = existing.value("options", nlohmann::json::object());
     const nlohmann::json ours = options.definingJson();
+    // An option missing there is one from before it existed: its default then.
+    const nlohmann::json defaults = DatasetOptions().definingJson();
+    for (const auto& [key, value] : defaults.items()) {
+      if (!theirs.contains(key)) theirs[key] = value;
+    }
     std::string differing;
     for (const auto& [key, value] : ours.items()) {
       if (!theirs.contains(key) || theirs.at(key) != value) {
@@ -352,8 +417,9 @@ void requireResumable(const std::string& dir, const fs::path& manifest_path,
   }
 }
 
-// Checks one stored frame against a fresh render of its pose and fresh labels (the worker's
-// environment holds the frame's scene); each difference is a problem of `report`.
+// Checks one stored frame against the worker's environment, which shows the frame's scene at its
+// pose (viewFrom, after the scene's earlier frames), and fresh labels; each difference is a
+// problem of `report`.
 void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, const Frame& frame,
                 AuditReport& report) {
   const auto problem = [&report, &frame](const std::string& what) {
@@ -365,16 +431,26 @@ void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, 
   };
   ++report.frames_checked;
   const FrameLabels& stored = frame.labels;
-  const RenderBuffers& buffers = worker.environment.renderAt(stored.pose);
+  const RenderBuffers& buffers = worker.environment.renderBuffers();
+  const Observation& seen = worker.environment.observation();
   const std::string folder = sceneFolder(dir, frame.scene_index);
   const std::string name = idName(stored.image_id);
-  if (cv::norm(data.readRgb(frame), buffers.rgb, cv::NORM_INF) != 0.0) problem("rgb differs");
+  if (stored.setup && !(*stored.setup == worker.environment.sceneSetup())) {
+    problem("world, sensor or camera differs");
+    return;
+  }
+  const cv::Mat rgb = data.readRgb(frame);
+  if (rgb.size() != seen.rgb.size()) {
+    problem("image size differs");
+    return;
+  }
+  if (cv::norm(rgb, seen.rgb, cv::NORM_INF) != 0.0) problem("rgb differs");
   const cv::Mat depth = data.readDepthMeters(frame);
   double worst_depth = 0.0;
   bool holes_match = true;
   for (int row = 0; row < depth.rows; ++row) {
     for (int col = 0; col < depth.cols; ++col) {
-      const float a = depth.at<float>(row, col), b = buffers.depth.at<float>(row, col);
+      const float a = depth.at<float>(row, col), b = seen.depth.at<float>(row, col);
       if (std::isnan(a) != std::isnan(b)) holes_match = false;
       if (!std::isnan(a) && !std::isnan(b))
         worst_depth = std::max(worst_depth, std::abs(double(a) - b));
@@ -504,7 +580,19 @@ AuditReport auditDataset(const std::string& dir, int samples, std::uint64_t seed
   for (const auto& [scene, frames] : by_scene) {
     const StepResult start = worker.environment.reset(frames.front()->scene_seed);
     worker.oracle.clear(start.info.pose);
-    for (const Frame* frame : frames) auditFrame(worker, data, dir, *frame, report);
+    // A sensor's noise follows its episode stream: its frames are replayed in order up to the
+    // last sampled one, as they were made. Ideal frames need only their own pose.
+    const bool replay = !worker.environment.sensor().isIdeal();
+    std::map<int, const Frame*> sampled, all;
+    for (const Frame* frame : frames) sampled[frame->labels.image_id] = frame;
+    for (const Frame& frame : data.frames()) {
+      if (frame.scene_index == scene) all[frame.labels.image_id] = &frame;
+    }
+    for (const auto& [image_id, frame] : replay ? all : sampled) {
+      if (image_id > sampled.rbegin()->first) break;
+      worker.environment.viewFrom(frame->labels.pose);
+      if (sampled.count(image_id)) auditFrame(worker, data, dir, *frame, report);
+    }
   }
   return report;
 }

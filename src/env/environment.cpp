@@ -19,9 +19,8 @@ void require(bool condition, const std::string& option, const std::string& expec
   throw InvalidArgumentError(message.str());
 }
 
-std::unique_ptr<Renderer> rendererFor(const EnvironmentOptions& options) {
-  const CameraIntrinsics intrinsics =
-      CameraIntrinsics::fromFieldOfView(options.width, options.height, options.field_of_view_rad);
+std::unique_ptr<Renderer> rendererFor(const EnvironmentOptions& options,
+                                      const CameraIntrinsics& intrinsics) {
   std::unique_ptr<Renderer> renderer = options.renderer_factory
                                            ? options.renderer_factory(intrinsics, options.renderer)
                                            : makeOsMesaRenderer(intrinsics, options.renderer);
@@ -29,15 +28,40 @@ std::unique_ptr<Renderer> rendererFor(const EnvironmentOptions& options) {
   return renderer;
 }
 
+bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy &&
+         a.cx == b.cx && a.cy == b.cy;
+}
+
+/// The setup before the first reset: the options' camera, world and sensor (void and ideal where
+/// they are drawn per scene).
+SceneSetup initialSetup(const EnvironmentOptions& options) {
+  EnvironmentOptions fixed = options;
+  fixed.camera_randomization.enabled = false;
+  if (fixed.world.world == kRandomChoice) fixed.world.world = "void";
+  if (fixed.sensor.depth_sensor == kRandomChoice) fixed.sensor.depth_sensor = "ideal";
+  return drawSceneSetup(fixed, 0);
+}
+
 std::shared_ptr<ObjectLibrary> libraryFor(const EnvironmentOptions& options) {
   std::shared_ptr<const ObjectCatalog> catalog = makeCatalog(options.catalog);
   return std::make_shared<ObjectLibrary>(std::move(catalog), options.lod_triangle_budget);
+}
+
+void requireRange(const std::vector<double>& range, const std::string& option) {
+  if (range.size() != 2 || !(range[0] <= range[1])) {
+    throw InvalidArgumentError("option '" + option +
+                               "' must be two numbers, min,max with min <= max");
+  }
 }
 
 }  // namespace
 
 void EnvironmentOptions::validate() const {
   environmentOptionTable().check(*this);
+  requireRange(camera_randomization.radius_range_m, "radius_range");
+  requireRange(camera_randomization.field_of_view_range_rad, "field_of_view_range");
+  requireRange(camera_randomization.resolution_scale_range, "resolution_scale_range");
   require(std::abs(start_elevation_rad) <= elevation_limit_rad, "start_elevation",
           "within +/- elevation_limit", start_elevation_rad);
   require(lod_triangle_budget == 0 || lod_triangle_budget >= 12, "lod_triangle_budget",
@@ -49,17 +73,38 @@ void EnvironmentOptions::validate() const {
     throw InvalidArgumentError(
         "catalog_paths must hold exactly one root folder when catalog_source is folder");
   }
-  sensor.validate();
-  world.validate();
+  // `random` draws one of the concrete choices, each valid with the other options.
+  SensorOptions concrete_sensor = sensor;
+  if (concrete_sensor.depth_sensor == kRandomChoice) concrete_sensor.depth_sensor = "ideal";
+  concrete_sensor.validate();
+  WorldOptions concrete_world = world;
+  if (concrete_world.world == kRandomChoice) concrete_world.world = "void";
+  concrete_world.validate();
 }
 
 Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)
     : options_((options.validate(), options)),
       camera_(options.radius_m, options.elevation_limit_rad),
       library_(library ? std::move(library) : libraryFor(options)),
-      renderer_(rendererFor(options)),
-      sensor_(options.sensor),
-      reward_(options.reward) {}
+      setup_(initialSetup(options)),
+      reward_(options.reward) {
+  renderer_ = rendererFor(options, setup_.intrinsics);
+  sensors_.resize(depthSensorNames().size());
+  sensor_ = &sensorFor(setup_.depth_sensor);
+}
+
+CameraSensor& Environment::sensorFor(const std::string& depth_sensor) {
+  const std::vector<std::string>& names = depthSensorNames();
+  const auto index =
+      static_cast<std::size_t>(std::find(names.begin(), names.end(), depth_sensor) - names.begin());
+  if (index >= names.size()) throw InvalidArgumentError("unknown depth sensor " + depth_sensor);
+  if (!sensors_[index]) {
+    SensorOptions sensor_options = options_.sensor;
+    sensor_options.depth_sensor = depth_sensor;
+    sensors_[index] = std::make_unique<CameraSensor>(sensor_options);
+  }
+  return *sensors_[index];
+}
 
 Environment::~Environment() = default;
 
@@ -79,10 +124,18 @@ void Environment::placeScene(const Scene& scene, const Room* room) {
     PlacedMesh mesh;
     mesh.mesh = &object.model->render;
     mesh.world_from_object = Eigen::Translation3d(object.position_m);
+    if (scene.scale != 1.0) mesh.world_from_object.prescale(scene.scale);
     placed.push_back(mesh);
   }
   renderer_->setScene(placed);
-  if (room) renderer_->setBackground(room->background());
+  if (!room) return;
+  SceneBackground background = room->background();
+  if (scene.scale != 1.0) {
+    for (auto* meshes : {&background.one_sided, &background.two_sided}) {
+      for (PlacedMesh& mesh : *meshes) mesh.world_from_object.prescale(scene.scale);
+    }
+  }
+  renderer_->setBackground(background);
 }
 
 StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides) {
@@ -105,13 +158,29 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
     throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
   }
 
+  const SceneSetup setup = drawSceneSetup(options_, seed);
+  const SphericalCamera camera(setup.radius_m, options_.elevation_limit_rad);
   RandomSource random(seed);
   const double azimuth_range = options_.start_azimuth_range_rad;
   const double drawn_azimuth = random.uniform(-azimuth_range, azimuth_range);
   const SphericalPose start_pose =
-      camera_.normalized({overrides.start_azimuth_rad.value_or(drawn_azimuth),
-                          overrides.start_elevation_rad.value_or(options_.start_elevation_rad)});
-  const Eigen::Isometry3d world_from_optical = camera_.worldFromOptical(start_pose);
+      camera.normalized({overrides.start_azimuth_rad.value_or(drawn_azimuth),
+                         overrides.start_elevation_rad.value_or(options_.start_elevation_rad)});
+  const Eigen::Isometry3d world_from_optical = camera.worldFromOptical(start_pose);
+  CameraSensor& sensor = sensorFor(setup.depth_sensor);
+  // Another camera needs another renderer; the current one is kept until a scene is accepted.
+  std::unique_ptr<Renderer> previous_renderer;
+  if (!sameIntrinsics(setup.intrinsics, renderer_->intrinsics())) {
+    std::unique_ptr<Renderer> renderer = rendererFor(options_, setup.intrinsics);
+    previous_renderer = std::exchange(renderer_, std::move(renderer));
+  }
+  const auto restore = [this, &previous_renderer] {
+    if (previous_renderer) {
+      renderer_ = std::move(previous_renderer);  // its scene was never changed
+    } else if (has_episode_) {
+      placeScene(scene_, room_.get());  // the renderer draws the current episode again
+    }
+  };
 
   // Draw scenes until the start view shows occlusion. Candidates render into the probe buffers,
   // so the current episode stays intact until one is accepted.
@@ -119,12 +188,8 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
   try {
     for (int attempt = 0; attempt < num_attempts; ++attempt) {
       Scene candidate = generateScene(*library_, scene_options, preset, random);
-      std::unique_ptr<Room> candidate_room;
-      if (options_.world.isRoom()) {
-        const double floor_height = standOnFloor(candidate);
-        candidate_room = std::make_unique<Room>(generateRoom(
-            candidate, floor_height, options_.radius_m, options_.world, *library_, random));
-      }
+      candidate.scale = setup.scene_scale;
+      std::unique_ptr<Room> candidate_room = roomFor(candidate, setup, random);
       placeScene(candidate, candidate_room.get());
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
@@ -134,9 +199,12 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
 
       scene_ = std::move(candidate);
       room_ = std::move(candidate_room);
+      setup_ = setup;
+      camera_ = camera;
+      sensor_ = &sensor;
       std::swap(buffers_, probe_buffers_);
       countOcclusion(num_objects);
-      sensor_.startEpisode(seed);
+      sensor_->startEpisode(seed);
       observeThroughSensor();
       observation_.instance = buffers_.instance;
       observation_.amodal_bits = buffers_.amodal_bits;
@@ -154,16 +222,26 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       return result;
     }
   } catch (...) {
-    if (has_episode_)
-      placeScene(scene_, room_.get());  // the renderer draws the current episode again
+    restore();
     throw;
   }
-  if (has_episode_) placeScene(scene_, room_.get());
+  restore();
   std::ostringstream message;
   message << "no scene with occlusion at the start view in " << num_attempts << " draws from seed "
           << seed << " (preset " << toString(preset)
           << "); raise max_scene_attempts or choose other objects";
   throw SceneGenerationError(message.str());
+}
+
+std::unique_ptr<Room> Environment::roomFor(Scene& scene, const SceneSetup& setup,
+                                           RandomSource& random) {
+  if (setup.world != "room") return nullptr;
+  WorldOptions world = options_.world;
+  world.world = setup.world;
+  const double floor_height = standOnFloor(scene);
+  // The room is drawn in the scene's own units, where the camera stands at options_.radius_m.
+  return std::make_unique<Room>(
+      generateRoom(scene, floor_height, options_.radius_m, world, *library_, random));
 }
 
 StepResult Environment::step(const Action& action) {
@@ -203,18 +281,18 @@ const StepInfo& Environment::viewFrom(const SphericalPose& pose) {
 void Environment::renderCurrent() {
   renderer_->render(info_.world_from_optical, buffers_);
   info_.occlusion = countOcclusion(static_cast<int>(scene_.objects.size()));
-  if (!sensor_.isIdeal()) sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+  if (!sensor_->isIdeal()) sensor_->apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
 }
 
 void Environment::observeThroughSensor() {
-  if (sensor_.isIdeal()) {
+  if (sensor_->isIdeal()) {
     observation_.rgb = buffers_.rgb;
     observation_.depth = buffers_.depth;
     return;
   }
-  sensor_.apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
-  observation_.rgb = sensor_.rgb();
-  observation_.depth = sensor_.depth();
+  sensor_->apply(buffers_.rgb, buffers_.depth, renderer_->intrinsics());
+  observation_.rgb = sensor_->rgb();
+  observation_.depth = sensor_->depth();
 }
 
 OcclusionStats Environment::countOcclusion(int num_objects) {

@@ -25,6 +25,36 @@ void addCamera(OptionTable<Options>& table) {
            OptionSpec("start elevation, within +/- elevation_limit").unit("rad"));
 }
 
+void addCameraRandomization(OptionTable<Options>& table) {
+  using R = CameraRandomization;
+  const auto member = [](auto R::*field) {
+    return [field](Options & o) -> auto& {
+      return o.camera_randomization.*field;
+    };
+  };
+  table
+      .add("randomize_camera", member(&R::enabled),
+           OptionSpec("draw radius, field of view, resolution and intrinsics per scene from its "
+                      "seed (the scene is scaled by drawn radius / radius)"))
+      .add("radius_range", member(&R::radius_range_m),
+           OptionSpec("randomize_camera: the camera's distance from the scene centre, min,max")
+               .unit("m")
+               .above(0))
+      .add("field_of_view_range", member(&R::field_of_view_range_rad),
+           OptionSpec("randomize_camera: horizontal field of view, min,max")
+               .unit("rad")
+               .above(0)
+               .below(M_PI))
+      .add("resolution_scale_range", member(&R::resolution_scale_range),
+           OptionSpec("randomize_camera: image size = width, height times this, min,max")
+               .range(0.0625, 4))
+      .add("focal_length_jitter", member(&R::focal_length_jitter),
+           OptionSpec("randomize_camera: fx and fy each times 1 + U(-j, j)").range(0, 0.5))
+      .add("principal_point_jitter", member(&R::principal_point_jitter),
+           OptionSpec("randomize_camera: cx and cy each moved by U(-j, j) times width, height")
+               .range(0, 0.25));
+}
+
 void addObjects(OptionTable<Options>& table) {
   table
       .add(
@@ -132,9 +162,10 @@ void addWorldAndSensor(OptionTable<Options>& table) {
   table
       .add(
           "world", [](Options& o) -> std::string& { return o.world.world; },
-          OptionSpec("around the targets: void (the paper's black) or room (floor, walls, ceiling, "
-                     "clutter, surfaces and light drawn per scene)")
-              .choices({"void", "room"}))
+          OptionSpec("around the targets: void (the paper's black), room (floor, walls, ceiling, "
+                     "clutter, surfaces and light drawn per scene) or random (one of the two "
+                     "drawn per scene)")
+              .choices({"void", "room", "random"}))
       .add(
           "clutter", [](Options& o) -> int& { return o.world.clutter; },
           OptionSpec("background catalogue objects per room, outside the camera's sphere (never "
@@ -143,8 +174,8 @@ void addWorldAndSensor(OptionTable<Options>& table) {
       .add(
           "depth_sensor", [](Options& o) -> std::string& { return o.sensor.depth_sensor; },
           OptionSpec("the camera's depth-sensor model; not ideal: colour noise, exposure, white "
-                     "balance and blur too (doc/SENSORS.md)")
-              .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect"}))
+                     "balance and blur too (doc/SENSORS.md); random: one drawn per scene")
+              .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
       .add(
           "sensor_parameters", [](Options& o) -> std::string& { return o.sensor.parameters_file; },
           OptionSpec("YAML of the sensor models' parameters (empty: built in, = "
@@ -157,6 +188,7 @@ void addWorldAndSensor(OptionTable<Options>& table) {
 OptionTable<Options> makeTable() {
   OptionTable<Options> table;
   addCamera(table);
+  addCameraRandomization(table);
   addObjects(table);
   addEpisodes(table);
   addGradientAndRendering(table);

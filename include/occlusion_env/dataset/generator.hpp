@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,14 @@ struct DatasetOptions {
   /// size in one direction drawn uniformly from [0, 2 pi): a random walk of varying stride.
   int max_move_steps = 4;
   bool oracle_labels = true;
+  /// Around the targets and what the camera reports (the environment's `world` and
+  /// `depth_sensor`, `random` included); unset: void and ideal, or random with `randomize`.
+  std::optional<std::string> world;
+  std::optional<std::string> depth_sensor;
+  /// Draw per scene, from its seed: the camera (radius, field of view, resolution, intrinsics;
+  /// env/scene_setup.hpp) and, where not given, the world and the sensor. The frames are what the
+  /// sensor gives; the labels (masks, occlusion, gradient, oracle) stay the truth.
+  bool randomize = false;
   double validation_fraction = 0.2;  // whole scenes: every 1/fraction-th scene
   int threads = 2;                   // workers, one environment (GL context) each
 

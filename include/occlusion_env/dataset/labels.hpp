@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 
 namespace occlusion_env {
@@ -41,6 +42,9 @@ struct FrameLabels {
                                      // or not computed (has_oracle)
   std::optional<Direction> escape;   // the oracle's first step; none for 0 or -1 steps
   bool has_oracle = false;
+  /// The frame's world, depth sensor and camera (radius, field of view, intrinsics, scene scale);
+  /// none in datasets written before they were recorded.
+  std::optional<SceneSetup> setup;
 };
 
 }  // namespace dataset

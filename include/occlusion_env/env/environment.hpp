@@ -11,6 +11,7 @@
 #include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
 #include "occlusion_env/env/room.hpp"
+#include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
@@ -33,6 +34,8 @@ struct EnvironmentOptions {
   double elevation_limit_rad = 1.3962634016;       // +/- 80 deg
   double start_azimuth_range_rad = 0.09817477042;  // start azimuth ~ U(-r, r), r = pi/32
   double start_elevation_rad = 0.0;
+  /// Per-scene draws of radius, field of view, resolution and intrinsics (off: the above).
+  CameraRandomization camera_randomization;
 
   // Objects.
   CatalogOptions catalog;
@@ -54,10 +57,12 @@ struct EnvironmentOptions {
   OcclusionGradientOptions gradient;         // of occlusionGradient()
   std::string gradient_method = "analytic";  // of occlusionGradient(): analytic | finite_difference
 
-  // The world around the targets (env/room.hpp): void (the paper's) or room.
+  // The world around the targets (env/room.hpp): void (the paper's), room, or random (one of
+  // them drawn per scene, env/scene_setup.hpp).
   WorldOptions world;
 
   // What the camera reports (sensor/camera_sensor.hpp): only the observation goes through it.
+  // depth_sensor random: one of the sensors drawn per scene.
   SensorOptions sensor;
 
   /// Throws InvalidArgumentError naming the first bad option: the table's ranges and choices,
@@ -115,7 +120,10 @@ class Environment : public EnvironmentInterface, public RenderedView {
   /// The ideal buffers the observation is made from, including each object's own depth (the
   /// occlusion count and gradients read these, never the sensor's output).
   const RenderBuffers& renderBuffers() const override { return buffers_; }
-  const CameraSensor& sensor() const { return sensor_; }
+  /// The current episode's sensor (before the first reset: the options' or ideal).
+  const CameraSensor& sensor() const { return *sensor_; }
+  /// The current episode's world, sensor and camera (drawn per scene where the options say so).
+  const SceneSetup& sceneSetup() const { return setup_; }
   const RewardFunction& reward() const { return reward_; }
   ObjectLibrary& library() { return *library_; }
 
@@ -125,8 +133,14 @@ class Environment : public EnvironmentInterface, public RenderedView {
   SphericalPose pose() const override { return info_.pose; }
 
  private:
-  /// Gives the renderer the scene's targets and, in a room, the room around them.
+  /// Gives the renderer the scene's targets and, in a room, the room around them (both scaled
+  /// by scene.scale).
   void placeScene(const Scene& scene, const Room* room);
+  /// The room of a scene in `setup`'s room world (the scene then stands on its floor), drawn
+  /// from `random`; nullptr in the void.
+  std::unique_ptr<Room> roomFor(Scene& scene, const SceneSetup& setup, RandomSource& random);
+  /// The sensor named `depth_sensor`, made on first use with the options' parameters.
+  CameraSensor& sensorFor(const std::string& depth_sensor);
   void renderCurrent();
   /// Points the observation's rgb and depth at what the camera sensor makes of buffers_.
   void observeThroughSensor();
@@ -134,11 +148,13 @@ class Environment : public EnvironmentInterface, public RenderedView {
   OcclusionStats countOcclusion(int num_objects);
 
   EnvironmentOptions options_;
-  SphericalCamera camera_;
+  SphericalCamera camera_;  // the current episode's (its radius may be drawn per scene)
   std::shared_ptr<ObjectLibrary> library_;
   std::unique_ptr<Renderer> renderer_;
-  CameraSensor sensor_;
-  std::unique_ptr<OcclusionGradient> gradient_;  // made on the first occlusionGradient()
+  std::vector<std::unique_ptr<CameraSensor>> sensors_;  // by depthSensorNames(), made on use
+  CameraSensor* sensor_ = nullptr;                      // the current episode's
+  SceneSetup setup_;                                    // the current episode's
+  std::unique_ptr<OcclusionGradient> gradient_;         // made on the first occlusionGradient()
   RewardFunction reward_;
   Scene scene_;
   std::unique_ptr<Room> room_;  // of scene_; null in the void world

@@ -22,7 +22,8 @@ namespace occlusion_env {
 /// setScene()).
 struct PlacedMesh {
   const Mesh* mesh = nullptr;
-  Eigen::Isometry3d world_from_object = Eigen::Isometry3d::Identity();
+  /// Rigid, or rigid times a uniform scale (a scaled scene, Scene::scale).
+  Eigen::Affine3d world_from_object = Eigen::Affine3d::Identity();
 };
 
 /// Everything one render produces. Allocated on the first render; later renders write into the

@@ -20,6 +20,9 @@ struct SceneObject {
 
 struct Scene {
   std::vector<SceneObject> objects;
+  /// World metres per metre of the objects' models and positions: the renderer draws object k
+  /// at scale * position_m, scale times its size (camera randomisation, env/scene_setup.hpp).
+  double scale = 1.0;
 };
 
 /// Canned scenes. kTwoChairs / kTwoTables: two copies of one model, the second 2 m nearer the
