@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -39,6 +40,9 @@ struct CommandLine {
   std::vector<std::string> categories{"chair", "table"};
   int resolution = 256;
   int max_steps = 50;
+  std::optional<std::string> world;         // unset: void, or random with randomize
+  std::optional<std::string> depth_sensor;  // unset: ideal, or random with randomize
+  bool randomize = false;
   std::vector<std::string> mean_length_policies;
 
   CommandLine() { ppo.backbone_path = occlusion_env::learning::defaultModelPath(); }
@@ -58,7 +62,17 @@ void addEnvironmentArguments(OptionTable<CommandLine>& table) {
       .add("resolution", &C::resolution,
            OptionSpec("in-process image size (as the evaluation)").unit("px").range(64, 1024))
       .add("max_steps", &C::max_steps,
-           OptionSpec("episode length before truncation").range(1, 100000));
+           OptionSpec("episode length before truncation").range(1, 100000))
+      .add("world", &C::world,
+           OptionSpec("in-process: around the targets (unset: void, or random with --randomize)")
+               .choices({"void", "room", "random"}))
+      .add("depth_sensor", &C::depth_sensor,
+           OptionSpec("in-process: the camera's depth sensor (unset: ideal, or random with "
+                      "--randomize)")
+               .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
+      .add("randomize", &C::randomize,
+           OptionSpec("in-process: draw per scene the camera (radius, field of view, resolution, "
+                      "intrinsics) and, unless given, world and depth sensor (doc/SENSORS.md)"));
 }
 
 void addRecipeArguments(OptionTable<CommandLine>& table) {
@@ -93,8 +107,14 @@ void checkCommandLine(const CommandLine& cl) {
   if (cl.run_dir.empty() && cl.mean_length_policies.empty()) {
     throw CLI::ValidationError("--out is required");
   }
+  const bool over_ros = cl.envs.rfind("ros:", 0) == 0;
+  if (over_ros && (cl.world || cl.depth_sensor || cl.randomize)) {
+    throw CLI::ValidationError(
+        "--world, --depth-sensor and --randomize are for in-process simulators: set the "
+        "simulators' world, depth_sensor and randomize_camera parameters instead");
+  }
   try {
-    if (cl.envs.rfind("ros:", 0) == 0) {
+    if (over_ros) {
       tools::splitList("--envs", cl.envs.substr(4));
     } else {
       tools::parseInteger("--envs", cl.envs, 1, 64);
@@ -185,6 +205,7 @@ Environments inProcessEnvironments(const CommandLine& cl) {
   options.width = options.height = cl.resolution;
   options.max_steps = cl.max_steps;
   options.reward.normalization = parseRewardNormalization(cl.ppo.reward);
+  applySceneRandomization(options, cl.world, cl.depth_sensor, cl.randomize);
   options.validate();
   auto library =
       std::make_shared<ObjectLibrary>(makeCatalog(options.catalog), options.lod_triangle_budget);
@@ -192,7 +213,9 @@ Environments inProcessEnvironments(const CommandLine& cl) {
     return std::unique_ptr<EnvironmentInterface>(std::make_unique<Environment>(options, library));
   };
   environments.where = std::to_string(environments.count) + " in-process simulators (" + cl.source +
-                       ", " + std::to_string(cl.resolution) + " px, train split)";
+                       ", " + std::to_string(cl.resolution) + " px, train split, world " +
+                       options.world.world + ", depth sensor " + options.sensor.depth_sensor +
+                       (cl.randomize ? ", camera drawn per scene)" : ")");
   return environments;
 }
 

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
@@ -192,6 +193,61 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
     label["occlusion_px"] = label["occlusion_px"].get<int>() + 1;
   std::ofstream(labels_path) << labels.dump();
   EXPECT_GT(auditDataset(dir, 24).failures, 0);
+  fs::remove_all(dir);
+}
+
+// --randomize: a tiny set whose frames come through the drawn sensors at the drawn cameras; the
+// labels name world, sensor and camera, scene_camera's K is the drawn one, and the audit
+// re-renders it with the same draws (and catches a changed frame).
+TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("occlusion_env_randomized_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  DatasetOptions options = tinyOptions();
+  options.scenes = 4;
+  options.frames = 3;
+  options.randomize = true;
+  options.oracle_labels = false;
+  generateDataset(dir.string(), options);
+  const nlohmann::json manifest = readJson(dir / "dataset.json");
+  EXPECT_EQ(manifest.at("options").at("randomize"), true);
+  EXPECT_TRUE(manifest.at("options").at("world").is_null());
+  EXPECT_TRUE(manifest.at("options").contains("camera_randomization"));
+  std::set<std::string> sensors;
+  for (int scene = 0; scene < options.scenes; ++scene) {
+    const fs::path folder = dir / "train" / idName(scene);
+    const nlohmann::json labels = readJson(folder / "scene_labels.json");
+    const nlohmann::json camera = readJson(folder / "scene_camera.json");
+    for (const auto& [key, label] : labels.items()) {
+      const std::string world = label.at("world"), sensor = label.at("depth_sensor");
+      EXPECT_TRUE(world == "void" || world == "room") << world;
+      sensors.insert(sensor);
+      const nlohmann::json& drawn = label.at("camera");
+      EXPECT_GE(drawn.at("radius_m").get<double>(), 0.5);
+      EXPECT_LE(drawn.at("radius_m").get<double>(), 1.5);
+      EXPECT_EQ(camera.at(key).at("cam_K").at(0), drawn.at("fx"));
+      EXPECT_EQ(camera.at(key).at("cam_K").at(2), drawn.at("cx"));
+      EXPECT_EQ(camera.at(key).at("scene_scale"), drawn.at("scene_scale"));
+      const cv::Mat rgb = cv::imread((folder / "rgb" / (idName(std::stoi(key)) + ".png")).string());
+      EXPECT_EQ(rgb.cols, drawn.at("width").get<int>());
+    }
+  }
+  EXPECT_GE(sensors.size(), 2u);  // seeds 0..3 draw realsense_d435, azure_kinect, ideal, ...
+  const AuditReport audit = auditDataset(dir.string(), 12);
+  EXPECT_EQ(audit.frames_checked, 12);
+  EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());
+
+  // Test seeds stay refused.
+  DatasetOptions test_seeds = options;
+  test_seeds.first_seed = kFirstTestSeed;
+  EXPECT_THROW(generateDataset(dir.string() + "_test", test_seeds), InvalidArgumentError);
+
+  // A frame one level brighter fails the audit.
+  const fs::path rgb_path = dir / "train" / idName(2) / "rgb" / (idName(2) + ".png");
+  cv::Mat rgb = cv::imread(rgb_path.string());
+  rgb.at<cv::Vec3b>(rgb.rows / 2, rgb.cols / 2)[0] ^= 1;
+  cv::imwrite(rgb_path.string(), rgb);
+  EXPECT_GT(auditDataset(dir.string(), 12).failures, 0);
   fs::remove_all(dir);
 }
 

@@ -37,6 +37,9 @@ TEST_P(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
   const bool in_room = GetParam().rfind(room_prefix, 0) == 0;
   options.world.world = in_room ? "room" : "void";
   options.sensor.depth_sensor = in_room ? GetParam().substr(room_prefix.size()) : GetParam();
+  // "randomized": world, sensor and camera drawn per scene (seed 3's draw).
+  if (GetParam() == "randomized")
+    applySceneRandomization(options, std::nullopt, std::nullopt, true);
   options.max_steps = 1000;
   Environment env(options);
   env.reset(3);
@@ -55,7 +58,7 @@ TEST_P(StepAllocationTest, StepsAllocateNothingAfterTheFirst) {
 
 INSTANTIATE_TEST_SUITE_P(DepthSensors, StepAllocationTest,
                          ::testing::Values("ideal", "kinect_v1", "realsense_d435", "azure_kinect",
-                                           "room+ideal", "room+realsense_d435"));
+                                           "room+ideal", "room+realsense_d435", "randomized"));
 
 }  // namespace
 }  // namespace occlusion_env
