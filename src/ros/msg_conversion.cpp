@@ -264,11 +264,12 @@ visualization_msgs::MarkerArray toSceneMarkers(const Scene& scene, const std_msg
     marker.id = static_cast<int>(k);
     marker.type = visualization_msgs::Marker::TRIANGLE_LIST;
     marker.action = visualization_msgs::Marker::ADD;
-    marker.pose.position.x = object.position_m.x();
-    marker.pose.position.y = object.position_m.y();
-    marker.pose.position.z = object.position_m.z();
+    // A scaled scene (camera randomisation): the mesh and its place times scene.scale.
+    marker.pose.position.x = scene.scale * object.position_m.x();
+    marker.pose.position.y = scene.scale * object.position_m.y();
+    marker.pose.position.z = scene.scale * object.position_m.z();
     marker.pose.orientation.w = 1.0;
-    marker.scale.x = marker.scale.y = marker.scale.z = 1.0;
+    marker.scale.x = marker.scale.y = marker.scale.z = scene.scale;
     marker.color.r = marker.color.g = marker.color.b = marker.color.a = 1.0;
     marker.points.resize(mesh.indices.size());
     marker.colors.resize(mesh.indices.size());

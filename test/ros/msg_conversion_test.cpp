@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/yaml_defaults.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/ros/camera_bridge.hpp"
 #include "occlusion_env/ros/msg_conversion.hpp"
 #include "occlusion_env/ros/parameters.hpp"
@@ -98,6 +99,42 @@ TEST(ObservationViewTest, MasksACameraCannotGiveStayEmpty) {
   // A mask with pixels must still have its encoding.
   fillImage(cv::Mat(4, 4, CV_32FC1), message.header, message.occlusion_mask);
   EXPECT_THROW(viewObservation(message, observation, info), std::invalid_argument);
+}
+
+// With the camera drawn per scene, the messages carry the drawn intrinsics (the renderer's) and
+// the scene markers the scaled scene.
+TEST(RandomizedCameraTest, CameraInfoAndMarkersFollowTheDrawnCamera) {
+  EnvironmentOptions options;
+  options.width = options.height = 96;
+  options.camera_randomization.enabled = true;
+  Environment environment(options);
+  environment.reset(4);
+  const CameraIntrinsics& k = environment.sceneSetup().intrinsics;
+  const CameraIntrinsics nominal = CameraIntrinsics::fromFieldOfView(
+      k.width, k.height, environment.sceneSetup().field_of_view_rad);
+  ASSERT_NE(k.fx, nominal.fx);  // jittered
+  ASSERT_NE(k.cx, nominal.cx);
+  std_msgs::Header header;
+  header.frame_id = "camera_optical";
+  CameraObservation message;
+  fillObservation(environment, header, "world", message);
+  const sensor_msgs::CameraInfo& info = message.camera_info;
+  EXPECT_EQ(info.width, static_cast<std::uint32_t>(k.width));
+  EXPECT_EQ(info.height, static_cast<std::uint32_t>(k.height));
+  EXPECT_EQ(info.K[0], k.fx);
+  EXPECT_EQ(info.K[2], k.cx);
+  EXPECT_EQ(info.K[4], k.fy);
+  EXPECT_EQ(info.K[5], k.cy);
+  EXPECT_EQ(info.P[0], k.fx);
+  EXPECT_EQ(info.P[6], k.cy);
+  EXPECT_EQ(message.rgb.width, info.width);
+
+  const visualization_msgs::MarkerArray markers = toSceneMarkers(environment.scene(), header);
+  const double scale = environment.scene().scale;
+  ASSERT_LT(scale, 1.0);
+  const SceneObject& second = environment.scene().objects.at(1);
+  EXPECT_DOUBLE_EQ(markers.markers.at(2).pose.position.x, scale * second.position_m.x());
+  EXPECT_DOUBLE_EQ(markers.markers.at(2).scale.x, scale);
 }
 
 TEST(ShippedRosConfigTest, CameraBridgeYamlStatesEveryOptionWithItsDefault) {
