@@ -46,6 +46,13 @@ EnvironmentOptions environmentOptionsFromJson(const std::string& json_text) {
   EnvironmentOptions options;
   environmentOptionTable().applyJson(json, options);
   options.validate();
+  // Gymnasium's observation space has one size: the drawn camera may not change it.
+  const std::vector<double>& scales = options.camera_randomization.resolution_scale_range;
+  if (options.camera_randomization.enabled && (scales[0] != 1.0 || scales[1] != 1.0)) {
+    throw InvalidArgumentError(
+        "randomize_camera in Python needs resolution_scale_range [1, 1]: the observation space "
+        "has one image size");
+  }
   return options;
 }
 

@@ -160,6 +160,20 @@ def test_unknown_and_bad_options_are_refused():
     env = occlusion_env.make(**SIZE)
     with pytest.raises(occlusion_env.InvalidArgumentError, match="bogus"):
         env.reset(seed=1, options={"bogus": 1})
+    # The drawn camera may not change the observation space's image size.
+    with pytest.raises(occlusion_env.InvalidArgumentError, match="resolution_scale_range"):
+        occlusion_env.make(randomize_camera=True, **SIZE)
+
+
+def test_randomized_camera_and_world_keep_the_space():
+    env = occlusion_env.make(randomize_camera=True, resolution_scale_range=[1.0, 1.0],
+                             world="random", depth_sensor="random", **SIZE)
+    for seed in (1, 2, 3):
+        observation, info = env.reset(seed=seed)
+        assert env.observation_space.contains(observation)
+        observation, *_ = env.step(np.array([0.05, 0.0], dtype=np.float32))
+        assert env.observation_space.contains(observation)
+    env.close()
 
 
 def test_reset_options_override_the_scene(env):
