@@ -55,6 +55,29 @@ void requireRange(const std::vector<double>& range, const std::string& option) {
   }
 }
 
+/// The scene options of a reset: the environment's with the overrides' objects. Throws
+/// InvalidArgumentError for bad overrides.
+SceneOptions sceneOptionsFor(const EnvironmentOptions& options, const ResetOptions& overrides) {
+  SceneOptions scene_options = options.scene;
+  if (!overrides.object_ids.empty()) scene_options.object_ids = overrides.object_ids;
+  if (!overrides.categories.empty()) scene_options.categories = overrides.categories;
+  if (scene_options.object_ids.size() > static_cast<std::size_t>(kMaxSceneObjects)) {
+    throw InvalidArgumentError("a scene holds at most " + std::to_string(kMaxSceneObjects) +
+                               " objects");
+  }
+  if (overrides.start_azimuth_rad && !std::isfinite(*overrides.start_azimuth_rad)) {
+    throw InvalidArgumentError("start azimuth must be finite");
+  }
+  if (overrides.start_elevation_rad && !std::isfinite(*overrides.start_elevation_rad)) {
+    throw InvalidArgumentError("start elevation must be finite");
+  }
+  if (overrides.start_elevation_rad &&
+      !(std::abs(*overrides.start_elevation_rad) <= options.elevation_limit_rad)) {
+    throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
+  }
+  return scene_options;
+}
+
 }  // namespace
 
 void EnvironmentOptions::validate() const {
@@ -140,23 +163,7 @@ void Environment::placeScene(const Scene& scene, const Room* room) {
 
 StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides) {
   const ScenePreset preset = parseScenePreset(overrides.preset.value_or(options_.preset));
-  SceneOptions scene_options = options_.scene;
-  if (!overrides.object_ids.empty()) scene_options.object_ids = overrides.object_ids;
-  if (!overrides.categories.empty()) scene_options.categories = overrides.categories;
-  if (scene_options.object_ids.size() > static_cast<std::size_t>(kMaxSceneObjects)) {
-    throw InvalidArgumentError("a scene holds at most " + std::to_string(kMaxSceneObjects) +
-                               " objects");
-  }
-  if (overrides.start_azimuth_rad && !std::isfinite(*overrides.start_azimuth_rad)) {
-    throw InvalidArgumentError("start azimuth must be finite");
-  }
-  if (overrides.start_elevation_rad && !std::isfinite(*overrides.start_elevation_rad)) {
-    throw InvalidArgumentError("start elevation must be finite");
-  }
-  if (overrides.start_elevation_rad &&
-      !(std::abs(*overrides.start_elevation_rad) <= options_.elevation_limit_rad)) {
-    throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
-  }
+  const SceneOptions scene_options = sceneOptionsFor(options_, overrides);
 
   const SceneSetup setup = drawSceneSetup(options_, seed);
   const SphericalCamera camera(setup.radius_m, options_.elevation_limit_rad);
