@@ -364,6 +364,12 @@ nlohmann::json DatasetOptions::definingJson() const {
   json.erase("threads");
   json["model_split"] = "train";
   json["step_size_rad"] = EnvironmentOptions().step_size_rad;
+  // At their defaults the world and sensor options are left out: a default set's options are
+  // those recorded before they existed (resumes, and occlusion_train --check's "the model's own
+  // data" test, compare them whole).
+  if (!world) json.erase("world");
+  if (!depth_sensor) json.erase("depth_sensor");
+  if (!randomize) json.erase("randomize");
   if (randomize) json["camera_randomization"] = cameraRandomizationJson(EnvironmentOptions());
   return json;
 }

@@ -43,7 +43,9 @@ struct DatasetOptions {
   int threads = 2;                   // workers, one environment (GL context) each
 
   /// The options that define the data (not how it is made): what a resumed run must match. The
-  /// table's names but scenes and threads, with the model split and the step size.
+  /// table's names but scenes and threads (and world, depth_sensor, randomize while unset or
+  /// false: a default set's options are as before they existed), with the model split, the
+  /// step size and, with randomize, the camera ranges.
   nlohmann::json definingJson() const;
   /// Throws InvalidArgumentError naming the first bad option; test seeds (>= 1,000,000) and
   /// anything but the train model split are refused here.
