@@ -55,18 +55,32 @@ double OracleAnswer::firstDirectionRad() const {
   return std::atan2(path.front().d_elevation_rad, path.front().d_azimuth_rad);
 }
 
+const OptionTable<OracleOptions>& oracleOptionTable() {
+  static const auto table =
+      OptionTable<OracleOptions>()
+          .add("lattice_spacing_steps", &OracleOptions::lattice_spacing_steps,
+               OptionSpec("lattice spacing in steps (finer: closer to the true fewest steps, "
+                          "slower)")
+                   .above(0)
+                   .atMost(1)
+                   .flag("--spacing"))
+          .add("circle_directions", &OracleOptions::circle_directions,
+               OptionSpec("poses tried on the one-step circle").range(4, 4096))
+          .add("max_steps", &OracleOptions::max_steps,
+               OptionSpec("search radius: no answer beyond this many steps").atLeast(1));
+  return table;
+}
+
+void OracleOptions::validate() const {
+  oracleOptionTable().check(*this);
+}
+
 OcclusionOracle::OcclusionOracle(Environment& environment, const OracleOptions& options)
     : environment_(environment),
       options_(options),
       step_rad_(environment.options().step_size_rad),
       spacing_rad_(options.lattice_spacing_steps * step_rad_) {
-  if (!(options.lattice_spacing_steps > 0.0 && options.lattice_spacing_steps <= 1.0)) {
-    throw InvalidArgumentError("oracle: lattice_spacing_steps must lie in (0, 1]");
-  }
-  if (options.circle_directions < 4 || options.circle_directions > 4096) {
-    throw InvalidArgumentError("oracle: circle_directions must lie in [4, 4096]");
-  }
-  if (options.max_steps < 1) throw InvalidArgumentError("oracle: max_steps must be >= 1");
+  options.validate();
   if (!environment.options().normalize_action) {
     throw InvalidArgumentError("oracle: the environment must normalise actions (fixed steps)");
   }

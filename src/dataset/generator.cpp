@@ -264,40 +264,57 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
 
 }  // namespace
 
+const OptionTable<DatasetOptions>& datasetOptionTable() {
+  using O = DatasetOptions;
+  static const auto table =
+      OptionTable<O>()
+          .add("scenes", &O::scenes, OptionSpec("number of scenes (N_s)").range(1, 1000000))
+          .add("frames", &O::frames, OptionSpec("frames per scene (N_i)").range(1, 100000))
+          .add("first_seed", &O::first_seed,
+               OptionSpec("scene seeds first_seed .. first_seed + scenes - 1 (training seeds)"))
+          .add("size", &O::size, OptionSpec("image width and height").unit("px").range(64, 1024))
+          .add("source", &O::source,
+               OptionSpec("object catalogue").choices({"embedded", "sweethome3d", "folder"}))
+          .add("catalog_paths", &O::catalog_paths,
+               OptionSpec("a .sh3f file or folder (sweethome3d), the root (folder)")
+                   .flag("--path")
+                   .repeatable())
+          .add("categories", &O::categories,
+               OptionSpec("draw objects of these categories only (empty: any)")
+                   .flag("--category")
+                   .repeatable())
+          .add("num_objects", &O::num_objects,
+               OptionSpec("objects per scene").range(2, kMaxSceneObjects).flag("--objects"))
+          .add("max_move_steps", &O::max_move_steps,
+               OptionSpec("longest move between frames, in steps").range(1, 100))
+          .add("oracle_labels", &O::oracle_labels,
+               OptionSpec("the oracle's labels (leaving them out is much faster)")
+                   .negatedFlag("--no-oracle"))
+          .add("validation_fraction", &O::validation_fraction,
+               OptionSpec("fraction of whole scenes for validation")
+                   .range(0, 0.5)
+                   .flag("--validation"))
+          .add("threads", &O::threads,
+               OptionSpec("worker threads, one environment each").range(1, 64));
+  return table;
+}
+
 nlohmann::json DatasetOptions::definingJson() const {
-  return {{"first_seed", first_seed},
-          {"frames", frames},
-          {"size", size},
-          {"source", source},
-          {"catalog_paths", catalog_paths},
-          {"categories", categories},
-          {"num_objects", num_objects},
-          {"max_move_steps", max_move_steps},
-          {"oracle_labels", oracle_labels},
-          {"validation_fraction", validation_fraction},
-          {"model_split", "train"},
-          {"step_size_rad", EnvironmentOptions().step_size_rad}};
+  nlohmann::json json = datasetOptionTable().toJson(*this);
+  json.erase("scenes");  // a dataset may grow
+  json.erase("threads");
+  json["model_split"] = "train";
+  json["step_size_rad"] = EnvironmentOptions().step_size_rad;
+  return json;
 }
 
 void DatasetOptions::validate() const {
-  if (scenes < 1) throw InvalidArgumentError("scenes must be >= 1");
-  if (frames < 1 || frames > 100000) throw InvalidArgumentError("frames must be in [1, 100000]");
+  datasetOptionTable().check(*this);
   if (first_seed + static_cast<std::uint64_t>(scenes) > kFirstTestSeed) {
     throw InvalidArgumentError(
         "training scenes must use seeds below " + std::to_string(kFirstTestSeed) +
         " (test sets start there); first seed " + std::to_string(first_seed) + " + " +
         std::to_string(scenes) + " scenes reaches into them");
-  }
-  if (size < 64 || size > 1024) throw InvalidArgumentError("size must be in [64, 1024] px");
-  if (max_move_steps < 1 || max_move_steps > 100)
-    throw InvalidArgumentError("max_move_steps must be in [1, 100]");
-  if (!(validation_fraction >= 0.0 && validation_fraction <= 0.5)) {
-    throw InvalidArgumentError("validation_fraction must be in [0, 0.5]");
-  }
-  if (threads < 1 || threads > 64) throw InvalidArgumentError("threads must be in [1, 64]");
-  if (num_objects < 2 || num_objects > kMaxSceneObjects) {
-    throw InvalidArgumentError("num_objects must be in [2, " + std::to_string(kMaxSceneObjects) +
-                               "]");
   }
 }
 

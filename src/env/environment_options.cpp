@@ -105,7 +105,9 @@ void addEpisodes(OptionTable<Options>& table) {
 void addGradientAndRendering(OptionTable<Options>& table) {
   table
       .add("gradient_method", &Options::gradient_method,
-           OptionSpec("the occlusion gradient's method").choices({"analytic", "finite_difference"}))
+           OptionSpec("the occlusion gradient's method")
+               .choices({"analytic", "finite_difference"})
+               .flag("--gradient"))
       .add(
           "gradient_blur_sigma", [](Options& o) -> double& { return o.gradient.blur_sigma_px; },
           OptionSpec("Gaussian smoothing of each silhouette; 0 = automatic (width * 3 / 64)")

@@ -11,6 +11,52 @@
 
 namespace occlusion_env {
 namespace eval {
+
+const OptionTable<SoakOptions>& soakOptionTable() {
+  using O = SoakOptions;
+  static const auto table =
+      OptionTable<O>()
+          .add("steps", &O::total_steps, OptionSpec("steps in all").atLeast(1))
+          .add("reset_every", &O::reset_every,
+               OptionSpec("steps per episode at most (an episode that ends resets earlier)")
+                   .atLeast(1))
+          .add("report_every", &O::report_every,
+               OptionSpec("steps per line of the report (rate and memory)").atLeast(1))
+          .add("warmup", &O::warmup,
+               OptionSpec("steps before the memory baseline is taken").atLeast(0));
+  return table;
+}
+
+const OptionTable<SoakLimits>& soakLimitsTable() {
+  using O = SoakLimits;
+  static const auto table =
+      OptionTable<O>()
+          .add("check", &O::check,
+               OptionSpec("exit 1 when a step or reset failed, memory grew or the rate decayed "
+                          "beyond the limits"))
+          .add("max_growth_mb", &O::max_growth_mib,
+               OptionSpec("check: memory growth after warm-up at most").unit("MiB").atLeast(0))
+          .add("min_rate_ratio", &O::min_rate_ratio,
+               OptionSpec("check: the last window's step rate at least this part of the first's")
+                   .range(0, 1));
+  return table;
+}
+
+std::vector<std::string> soakProblems(const SoakReport& report, const SoakLimits& limits) {
+  std::vector<std::string> problems;
+  if (!limits.check) return problems;
+  if (report.failures > 0) problems.push_back(std::to_string(report.failures) + " requests failed");
+  if (report.growthMiB() > limits.max_growth_mib) {
+    problems.push_back("memory grew " + std::to_string(report.growthMiB()) + " MiB > " +
+                       std::to_string(limits.max_growth_mib));
+  }
+  if (report.last_rate < limits.min_rate_ratio * report.first_rate) {
+    problems.push_back("the step rate decayed to " + std::to_string(report.rateRatio()) +
+                       " of the first window's");
+  }
+  return problems;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

@@ -32,33 +32,41 @@ nn::Sequential directionHead(int features) {
 
 }  // namespace
 
+const OptionTable<NetworkConfig>& networkConfigTable() {
+  static const auto table =
+      OptionTable<NetworkConfig>()
+          .add("variant", &NetworkConfig::variant,
+               OptionSpec("the network (Table 3)").choices({"unet", "r_unet", "sr_unet", "sar_unet"}))
+          .add("input_size", &NetworkConfig::input_size,
+               OptionSpec("network input size, a multiple of 2^levels (32)")
+                   .unit("px")
+                   .range(16, 512)
+                   .flag("--size"))
+          .add("base_channels", &NetworkConfig::base_channels,
+               OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
+          .add("levels", &NetworkConfig::levels,
+               OptionSpec("encoder stages, each halving the size").range(1, 6).flag(""));
+  return table;
+}
+
 void NetworkConfig::validate() const {
-  if (variant != "unet" && variant != "r_unet" && variant != "sr_unet" && variant != "sar_unet") {
-    throw InvalidArgumentError("network variant must be unet, r_unet, sr_unet or sar_unet, got " +
-                               quoted(variant));
-  }
-  if (base_channels < 1 || base_channels > 64)
-    throw InvalidArgumentError("base_channels must be in [1, 64]");
-  if (levels < 1 || levels > 6) throw InvalidArgumentError("levels must be in [1, 6]");
-  if (input_size < 16 || input_size > 512 || input_size % (1 << levels) != 0) {
-    throw InvalidArgumentError("input_size must be in [16, 512] and a multiple of 2^levels = " +
+  networkConfigTable().check(*this);
+  if (input_size % (1 << levels) != 0) {
+    throw InvalidArgumentError("input_size must be a multiple of 2^levels = " +
                                std::to_string(1 << levels));
   }
 }
 
 nlohmann::json NetworkConfig::toJson() const {
-  return {{"variant", variant},
-          {"base_channels", base_channels},
-          {"levels", levels},
-          {"input_size", input_size}};
+  return networkConfigTable().toJson(*this);
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
+  for (const std::string& key : networkConfigTable().keys()) {
+    if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
+  }
   NetworkConfig config;
-  config.variant = json.at("variant").get<std::string>();
-  config.base_channels = json.at("base_channels").get<int>();
-  config.levels = json.at("levels").get<int>();
-  config.input_size = json.at("input_size").get<int>();
+  networkConfigTable().applyJson(json, config);
   config.validate();
   return config;
 }

@@ -14,22 +14,34 @@ namespace learning {
 
 namespace nn = torch::nn;
 
+const OptionTable<PolicyConfig>& policyConfigTable() {
+  static const auto table =
+      OptionTable<PolicyConfig>()
+          .add("hidden", &PolicyConfig::hidden,
+               OptionSpec("width of the actor body's and the critic's hidden layers")
+                   .range(1, 4096)
+                   .flag(""))
+          .add("rig_inputs", &PolicyConfig::rig_inputs,
+               OptionSpec("the heads see the last move and the elevation besides the image "
+                          "features")
+                   .negatedFlag("--no-rig"))
+          .add("unit_mean", &PolicyConfig::unit_mean,
+               OptionSpec("scale the mean action to unit length (false: free length, as the "
+                          "paper; doc/PPO.md compares them)"));
+  return table;
+}
+
 void PolicyConfig::validate() const {
-  if (hidden < 1 || hidden > 4096) {
-    throw InvalidArgumentError("policy: hidden must be in [1, 4096], got " +
-                               std::to_string(hidden));
-  }
+  policyConfigTable().check(*this);
 }
 
 nlohmann::json PolicyConfig::toJson() const {
-  return {{"hidden", hidden}, {"rig_inputs", rig_inputs}, {"unit_mean", unit_mean}};
+  return policyConfigTable().toJson(*this);
 }
 
 PolicyConfig PolicyConfig::fromJson(const nlohmann::json& json) {
   PolicyConfig config;
-  config.hidden = json.at("hidden").get<int>();
-  config.rig_inputs = json.at("rig_inputs").get<bool>();
-  config.unit_mean = json.value("unit_mean", false);  // policies from before the option
+  policyConfigTable().applyJson(json, config);
   config.validate();
   return config;
 }

@@ -21,52 +21,108 @@ namespace learning {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+void addRunOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("backbone_path", &O::backbone_path,
+           OptionSpec("the pretrained multi-task network (.pt + .json)").flag("--backbone"))
+      .add("actor_from_escape", &O::actor_from_escape,
+           OptionSpec("start the actor at the network's escape head").flag(""))
+      .add("fine_tune", &O::fine_tune, OptionSpec("train the encoder too (with --backbone-lr)"))
+      .add("backbone_learning_rate", &O::backbone_learning_rate,
+           OptionSpec("the encoder's learning rate with --fine-tune")
+               .range(1e-9, 1)
+               .flag("--backbone-lr"))
+      .add("total_steps", &O::total_steps,
+           OptionSpec("environment steps in all").range(1, 1e12).flag("--steps"))
+      .add("steps_per_update", &O::steps_per_update, OptionSpec("N_u").range(2, 1e6))
+      .add("epochs", &O::epochs, OptionSpec("passes per update at most (K)").range(1, 10000))
+      .add("minibatch_size", &O::minibatch_size,
+           OptionSpec("steps per minibatch").range(2, 1e6).flag("--minibatch"));
+}
+
+void addPpoOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("actor_learning_rate", &O::actor_learning_rate,
+           OptionSpec("Adam learning rate of the actor").range(1e-9, 1).flag("--actor-lr"))
+      .add("critic_learning_rate", &O::critic_learning_rate,
+           OptionSpec("Adam learning rate of the critic").range(1e-9, 1).flag("--critic-lr"))
+      .add("gamma", &O::gamma, OptionSpec("discount").above(0).atMost(1))
+      .add("gae_lambda", &O::gae_lambda, OptionSpec("GAE lambda").range(0, 1).flag("--lambda"))
+      .add("clip_epsilon", &O::clip_epsilon,
+           OptionSpec("surrogate clip epsilon").above(0).below(1).flag("--clip"))
+      .add("action_std", &O::action_std,
+           OptionSpec("action sigma at the start").above(0).atMost(100).flag("--std"))
+      .add("action_std_end", &O::action_std_end,
+           OptionSpec("action sigma at the end (linear in steps)")
+               .above(0)
+               .atMost(100)
+               .flag("--std-end"))
+      .add("entropy_coefficient", &O::entropy_coefficient,
+           OptionSpec("entropy bonus coefficient").range(0, 100).flag("--entropy"))
+      .add("max_grad_norm", &O::max_grad_norm,
+           OptionSpec("gradient norm clip; 0 = none").range(0, 1e6))
+      .add("target_kl", &O::target_kl,
+           OptionSpec("stop an update's epochs above 1.5 * this; 0 = never").range(0, 100))
+      .add("normalize_advantages", &O::normalize_advantages,
+           OptionSpec("normalised advantages").negatedFlag("--no-advantage-norm"));
+}
+
+void addRecordOptions(OptionTable<PpoOptions>& table) {
+  using O = PpoOptions;
+  table
+      .add("reward", &O::reward,
+           OptionSpec("the environments' reward normalisation: union (Agent-UN) | intersection "
+                      "(Agent-IN)")
+               .choices({"union", "intersection", "none"}))
+      .add("seed", &O::seed, OptionSpec("initial weights, actions and training seeds"))
+      .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256))
+      .add("checkpoint_every", &O::checkpoint_every,
+           OptionSpec("updates between checkpoints").range(1, 1e6));
+}
+
+OptionTable<PpoOptions> makePpoTable() {
+  OptionTable<PpoOptions> table;
+  addRunOptions(table);
+  addPpoOptions(table);
+  addRecordOptions(table);
+  return table;
+}
+
+}  // namespace
+
+const OptionTable<PpoOptions>& ppoOptionTable() {
+  static const OptionTable<PpoOptions> table = makePpoTable();
+  return table;
+}
+
+void applyPaperRecipe(PpoOptions& options) {
+  options.actor_from_escape = false;
+  options.policy.rig_inputs = false;
+  options.policy.unit_mean = false;
+  options.gae_lambda = 1.0;
+  options.minibatch_size = 200;
+  options.target_kl = 0.0;
+  options.max_grad_norm = 0.0;
+}
+
 void PpoOptions::validate() const {
-  const auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw InvalidArgumentError("ppo: " + what);
-  };
-  require(!backbone_path.empty(), "a pretrained network (backbone_path) is needed");
-  require(reward == "union" || reward == "intersection" || reward == "none",
-          "reward must be union, intersection or none");
-  require(total_steps >= 1, "total_steps must be >= 1");
-  require(steps_per_update >= 2, "steps_per_update must be >= 2");
-  require(epochs >= 1, "epochs must be >= 1");
-  require(minibatch_size >= 2, "minibatch_size must be >= 2");
-  require(actor_learning_rate > 0 && critic_learning_rate > 0 && backbone_learning_rate > 0,
-          "learning rates must be > 0");
-  require(gamma > 0 && gamma <= 1, "gamma must be in (0, 1]");
-  require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda must be in [0, 1]");
-  require(clip_epsilon > 0 && clip_epsilon < 1, "clip_epsilon must be in (0, 1)");
-  require(action_std > 0 && action_std_end > 0, "action_std and action_std_end must be > 0");
-  require(entropy_coefficient >= 0 && max_grad_norm >= 0 && target_kl >= 0,
-          "entropy_coefficient, max_grad_norm and target_kl must be >= 0");
-  require(threads >= 0 && checkpoint_every >= 1, "threads >= 0 and checkpoint_every >= 1");
+  ppoOptionTable().check(*this);
   policy.validate();
+  if (backbone_path.empty()) {
+    throw InvalidArgumentError("ppo: a pretrained network (backbone_path) is needed");
+  }
 }
 
 nlohmann::json PpoOptions::toJson() const {
-  return {{"backbone_path", backbone_path},
-          {"actor_from_escape", actor_from_escape},
-          {"fine_tune", fine_tune},
-          {"policy", policy.toJson()},
-          {"reward", reward},
-          {"total_steps", total_steps},
-          {"steps_per_update", steps_per_update},
-          {"epochs", epochs},
-          {"minibatch_size", minibatch_size},
-          {"actor_learning_rate", actor_learning_rate},
-          {"critic_learning_rate", critic_learning_rate},
-          {"backbone_learning_rate", backbone_learning_rate},
-          {"gamma", gamma},
-          {"gae_lambda", gae_lambda},
-          {"clip_epsilon", clip_epsilon},
-          {"action_std", action_std},
-          {"action_std_end", action_std_end},
-          {"entropy_coefficient", entropy_coefficient},
-          {"max_grad_norm", max_grad_norm},
-          {"target_kl", target_kl},
-          {"normalize_advantages", normalize_advantages},
-          {"seed", seed}};
+  nlohmann::json json = ppoOptionTable().toJson(*this);
+  json.erase("threads");  // neither changes the result
+  json.erase("checkpoint_every");
+  json["policy"] = policy.toJson();
+  return json;
 }
 
 namespace {

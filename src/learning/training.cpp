@@ -274,33 +274,48 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
   return samples;
 }
 
+const OptionTable<TrainingOptions>& trainingOptionTable() {
+  using O = TrainingOptions;
+  static const auto table =
+      OptionTable<O>()
+          .add("epochs", &O::epochs, OptionSpec("passes over the training frames").range(1, 10000))
+          .add("batch_size", &O::batch_size,
+               OptionSpec("frames per batch (>= 2: BatchNorm)").range(2, 4096).flag("--batch"))
+          .add("learning_rate", &O::learning_rate,
+               OptionSpec("AdamW learning rate, cosine-annealed to 0").range(1e-7, 1).flag("--lr"))
+          .add("weight_decay", &O::weight_decay, OptionSpec("AdamW weight decay").range(0, 1))
+          .add("direction_loss", &O::direction_loss,
+               OptionSpec("loss of the direction heads (smooth_l1: beta 0.01, the paper's -L1)")
+                   .choices({"mse", "smooth_l1"}))
+          .add("dice_weight", &O::dice_weight, OptionSpec("beta_1 (Eq. 12)").range(0, 1000))
+          .add("direction_weight", &O::direction_weight,
+               OptionSpec("beta_2, for each of the two direction heads").range(0, 1000))
+          .add("bce_weight", &O::bce_weight,
+               OptionSpec("adds this times a pixel-wise binary cross-entropy on the occlusion map "
+                          "to the paper's loss (0: the paper's loss)")
+                   .range(0, 1000))
+          .add("augment", &O::augment,
+               OptionSpec("colour jitter and horizontal flips").negatedFlag("--no-augment"))
+          .add("init_from", &O::init_from,
+               OptionSpec("start from this model's weights (a best.pt of an earlier run of the "
+                          "same network) instead of random ones: a new cosine schedule and a "
+                          "fresh optimizer on them (a warm restart); \"\": random weights"))
+          .add("seed", &O::seed, OptionSpec("weights, shuffling and augmentation"))
+          .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256));
+  return table;
+}
+
 void TrainingOptions::validate() const {
   network.validate();
-  if (epochs < 1) throw InvalidArgumentError("epochs must be >= 1");
-  if (batch_size < 2) throw InvalidArgumentError("batch_size must be >= 2 (BatchNorm)");
-  if (!(learning_rate > 0.0)) throw InvalidArgumentError("learning_rate must be > 0");
-  if (!(weight_decay >= 0.0)) throw InvalidArgumentError("weight_decay must be >= 0");
-  if (direction_loss != "mse" && direction_loss != "smooth_l1") {
-    throw InvalidArgumentError("direction_loss must be mse or smooth_l1");
-  }
-  if (threads < 0) throw InvalidArgumentError("threads must be >= 0");
-  if (!(bce_weight >= 0.0)) throw InvalidArgumentError("bce_weight must be >= 0");
+  trainingOptionTable().check(*this);
 }
 
 nlohmann::json TrainingOptions::toJson() const {
-  nlohmann::json json = {{"network", network.toJson()},
-                         {"epochs", epochs},
-                         {"batch_size", batch_size},
-                         {"learning_rate", learning_rate},
-                         {"weight_decay", weight_decay},
-                         {"dice_weight", dice_weight},
-                         {"direction_weight", direction_weight},
-                         {"bce_weight", bce_weight},
-                         {"direction_loss", direction_loss},
-                         {"augment", augment},
-                         {"seed", seed}};
+  nlohmann::json json = trainingOptionTable().toJson(*this);
+  json.erase("threads");  // does not change the result
   // Only when set, so that runs from random weights keep the identity they always had.
-  if (!init_from.empty()) json["init_from"] = init_from;
+  if (init_from.empty()) json.erase("init_from");
+  json["network"] = network.toJson();
   return json;
 }
 

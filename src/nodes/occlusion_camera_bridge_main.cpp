@@ -1,5 +1,5 @@
 // occlusion_camera_bridge: a real RGB-D camera on a robot behind the simulator's reset and step
-// services (README, "Using a real camera"; parameters: config/camera_bridge.yaml).
+// services (doc/CAMERA_BRIDGE.md; parameters: config/camera_bridge.yaml).
 #include <ros/ros.h>
 #include <tf2_ros/transform_listener.h>
 #include <torch/torch.h>

@@ -12,6 +12,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "occlusion_env/eval/soak.hpp"
 #include "occlusion_env/ros/environment_client.hpp"
@@ -53,11 +54,6 @@ int main(int argc, char** argv) {
     return 2;
   }
   warnAboutUnknownParameters(private_node, serviceSoakOptionTable());
-  eval::SoakOptions soak;
-  soak.total_steps = options.steps;
-  soak.reset_every = options.reset_every;
-  soak.report_every = options.report_every;
-  soak.warmup = options.warmup;
 
   EnvironmentClient client{ros::NodeHandle(names::kNamespace)};
   try {
@@ -86,7 +82,7 @@ int main(int argc, char** argv) {
   std::printf("    steps   resets   steps/s   simulator RSS MiB\n");
   eval::SoakReport r;
   try {
-    r = eval::runSoak(client, soak, hooks);
+    r = eval::runSoak(client, options.soak, hooks);
   } catch (const std::exception& error) {
     ROS_FATAL_STREAM("soak on " << client.describe() << ": " << error.what());
     return 1;
@@ -97,10 +93,7 @@ int main(int argc, char** argv) {
       "window %.1f/s, last %.1f/s (ratio %.2f)\n",
       r.steps, r.seconds, r.steps / r.seconds, r.failures, r.baseline_mib, r.end_mib, r.growthMiB(),
       r.first_rate, r.last_rate, r.rateRatio());
-  if (options.check && (r.failures > 0 || r.growthMiB() > options.max_growth_mib ||
-                        r.last_rate < options.min_rate_ratio * r.first_rate)) {
-    ROS_ERROR("soak check failed (failures, memory growth or rate decay beyond the limits)");
-    return 1;
-  }
-  return 0;
+  const std::vector<std::string> problems = eval::soakProblems(r, options.limits);
+  for (const std::string& problem : problems) ROS_ERROR_STREAM("soak check failed: " << problem);
+  return problems.empty() ? 0 : 1;
 }

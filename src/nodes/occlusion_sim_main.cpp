@@ -1,5 +1,5 @@
-// occlusion_sim: the simulated active-perception camera as a ROS node (README, "ROS interface"),
-// or, with ~mode camera, a stand-in for a real camera on a robot (README, "Using a real camera").
+// occlusion_sim: the simulated active-perception camera as a ROS node (doc/USER_GUIDE.md), or,
+// with ~mode camera, a stand-in for a real camera on a robot (doc/CAMERA_BRIDGE.md).
 #include <ros/ros.h>
 
 #include <exception>

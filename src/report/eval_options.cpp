@@ -5,11 +5,110 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
+#include "occlusion_env/eval/sweep.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 
 namespace occlusion_env {
 namespace report {
+
+namespace {
+
+void addModes(OptionTable<EvalOptions>& table) {
+  using O = EvalOptions;
+  table
+      .add("scenes", &O::scenes,
+           OptionSpec("mode: run the agents on the scene set of this file (config/scenes/*.yaml)"))
+      .add("sweep", &O::sweep,
+           OptionSpec("mode: start-azimuth sweep of this preset, two_chairs or two_tables "
+                      "(Figure 5)"))
+      .add("summarize", &O::summarize,
+           OptionSpec("mode: summary and plots from this episode CSV of an earlier run"))
+      .add("landscape", &O::landscape,
+           OptionSpec("mode: occlusion L over the camera angles of this set's first scene, with "
+                      "each agent's path on it (CSV and plot)"))
+      .add("strip", &O::strip,
+           OptionSpec("mode: frames of one episode of each agent (default gradient, "
+                      "predicted_escape) on a scene of this set, side by side (PNG): the first "
+                      "scene where the first agent fails and the last succeeds, else the first"))
+      .add("networks", &O::networks,
+           OptionSpec("mode: print the Table 3 layout (doc/training/*.json and models/*.json "
+                      "beside the paper's rows) and exit"))
+      .add("all", &O::all,
+           OptionSpec("mode: the held-out scene sets (config/scenes/test_*.yaml) and both sweeps, "
+                      "on the embedded scene and on Sweet Home 3D models, and the report"));
+}
+
+void addRunOptions(OptionTable<EvalOptions>& table) {
+  using O = EvalOptions;
+  table
+      .add("agents", &O::agents,
+           OptionSpec("agents by name (empty: every agent of the registry that runs without a "
+                      "model path, the oracle included)"))
+      .add("max_steps", &O::max_steps,
+           OptionSpec("step limit per episode (unset: 50; 2000 for --sweep)").range(1, 1000000))
+      .add("limit", &O::limit, OptionSpec("only the first N scenes of the set").range(1, 1000000))
+      .add("sweep_source", &O::sweep_source,
+           OptionSpec("object source of the sweep's preset scenes")
+               .choices({"embedded", "sweethome3d", "folder"}))
+      .add("sweep_models", &O::sweep_models,
+           OptionSpec("models (one scene seed each) per sweep (unset: 1 for embedded, 6 for "
+                      "other sources)")
+               .range(1, eval::kSweepSeedSearch))
+      .add("model", &O::model,
+           OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"));
+}
+
+void addOutputOptions(OptionTable<EvalOptions>& table) {
+  using O = EvalOptions;
+  table.add("out", &O::out, OptionSpec("output folder"))
+      .add(
+          "best_seed", [](O& o) -> std::uint64_t& { return o.best.seed; },
+          OptionSpec("seed of the BEST chains"))
+      .add(
+          "best_samples", [](O& o) -> int& { return o.best.samples_per_chain; },
+          OptionSpec("kept MCMC samples per chain (3 chains)").range(1, 100000000))
+      .add("plots", &O::plots, OptionSpec("the PNG plots").negatedFlag("--no-plots"))
+      .add("plot_script", &O::plot_script,
+           OptionSpec("the plot script (\"\": scripts/plot_evaluation.py of --source-dir)"))
+      .add("source_dir", &O::source_dir,
+           OptionSpec("where config/scenes, models and scripts are (\"\": the package's share "
+                      "directory, the source tree in a devel space; doc/INSTALL.md)"))
+      .add("report", &O::report,
+           OptionSpec("with --all: the evaluation report's file, its links pointing into --out "
+                      "(\"\": EVALUATION.md in --out)"));
+}
+
+OptionTable<EvalOptions> makeEvalTable() {
+  OptionTable<EvalOptions> table;
+  addModes(table);
+  addRunOptions(table);
+  addOutputOptions(table);
+  return table;
+}
+
+}  // namespace
+
+const OptionTable<EvalOptions>& evalOptionTable() {
+  static const OptionTable<EvalOptions> table = makeEvalTable();
+  return table;
+}
+
+void EvalOptions::resolve() {
+  evalOptionTable().check(*this);
+  const int modes = !scenes.empty() + !sweep.empty() + !summarize.empty() + !landscape.empty() +
+                    !strip.empty() + networks + all;
+  if (modes != 1) {
+    throw InvalidArgumentError(
+        "give exactly one of --scenes, --sweep, --summarize, --landscape, --strip, --networks, "
+        "--all");
+  }
+  if (!report.empty() && !all) throw InvalidArgumentError("--report needs --all");
+  if (source_dir.empty()) source_dir = packageShareDirectory();
+  if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";
+}
 
 const AgentRegistry& agentRegistry() {
   static const AgentRegistry agents = learning::learningAgents();

@@ -42,7 +42,7 @@ std::string reportIntroduction(const EvalOptions& cl) {
           "tables, any model) and `config/scenes/test_sweethome3d_unseen.yaml` (the same kind of "
           "scenes drawn only from the catalogue's test split: models no learned agent is trained "
           "on): 50 scenes of 3 objects each, start azimuth 0, elevation 0, at most "
-       << (cl.max_steps > 0 ? cl.max_steps : 50)
+       << cl.max_steps.value_or(50)
        << " steps, as in the paper's Table 4. Their seeds lie at or above 1,000,000; training "
           "must use seeds below (the tool refuses test sets that reach into that range). Every "
           "agent sees the same scenes. Success: no two amodal silhouettes overlap (L = 0 px); a "
@@ -89,11 +89,11 @@ void runFullEvaluation(const EvalOptions& cl) {
   for (const char* source : {"embedded", "sweethome3d"}) {
     for (const char* preset : {"two_chairs", "two_tables"}) {
       EvalOptions sweep_cl = cl;
-      sweep_cl.max_steps = cl.max_steps > 0 && cl.max_steps != 50 ? cl.max_steps : -1;
+      if (cl.max_steps == 50) sweep_cl.max_steps.reset();  // the sweep keeps its own default
       sweep_cl.sweep_source = source;
       if (sweep_cl.sweep_source == "embedded") {
         // As first published: its one scene, the competing agents.
-        sweep_cl.sweep_models = -1;
+        sweep_cl.sweep_models.reset();
         if (sweep_cl.agents.empty()) sweep_cl.agents = agentRegistry().competitors();
       }
       sections += runSweep(sweep_cl, preset) + "\n";

@@ -23,7 +23,7 @@ std::string runLandscape(const EvalOptions& cl, const std::string& scenes_path) 
   const SceneSet set = loadSceneSet(scenes_path);
   if (set.seeds.empty()) throw InvalidArgumentError(scenes_path + ": no seeds");
   const std::uint64_t seed = set.seeds.front();
-  const int max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  const int max_steps = cl.max_steps.value_or(50);
   Environment env(environmentOptionsFor(set));
   std::vector<EpisodeRecord> paths;
   EpisodeRunOptions run_options;

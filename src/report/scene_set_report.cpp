@@ -60,13 +60,13 @@ std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   EvaluationPlan plan;
   plan.scenes = loadSceneSet(scenes_path);
   requireDisjoint(plan.scenes, kTrainingSeedRange);
-  if (cl.limit > 0 && static_cast<std::size_t>(cl.limit) < plan.scenes.seeds.size()) {
-    plan.scenes.seeds.resize(cl.limit);
+  if (cl.limit && static_cast<std::size_t>(*cl.limit) < plan.scenes.seeds.size()) {
+    plan.scenes.seeds.resize(*cl.limit);
   }
   plan.agents =
       cl.agents.empty() ? agentRegistry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
-  plan.max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  plan.max_steps = cl.max_steps.value_or(50);
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlanToCsv(plan, csv_path);
   return writeSceneSetSummary(cl, records, plan.scenes.name, csv_path);

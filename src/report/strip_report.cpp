@@ -137,7 +137,7 @@ std::string runStrip(const EvalOptions& cl, const std::string& scenes_path) {
   if (set.seeds.empty()) throw InvalidArgumentError(scenes_path + ": no seeds");
   const std::vector<std::string> agents =
       cl.agents.size() >= 2 ? cl.agents : std::vector<std::string>{"gradient", "predicted_escape"};
-  const int max_steps = cl.max_steps > 0 ? cl.max_steps : 50;
+  const int max_steps = cl.max_steps.value_or(50);
   EnvironmentOptions options = environmentOptionsFor(set);
   options.max_steps = max_steps;
   Environment env(options);

@@ -194,7 +194,7 @@ std::string oneModelSweepMarkdown(const EvalOptions& cl, const std::string& pres
 }  // namespace
 
 std::string runSweep(const EvalOptions& cl, const std::string& preset) {
-  const int models = cl.sweep_models > 0 ? cl.sweep_models : defaultSweepModels(cl.sweep_source);
+  const int models = cl.sweep_models.value_or(defaultSweepModels(cl.sweep_source));
   std::cerr << "occlusion_eval: choosing " << models << " " << preset << " model(s) of source "
             << cl.sweep_source << "...\n";
   const SweepScenes scenes = sweepScenes(preset, cl.sweep_source, models);
@@ -204,7 +204,7 @@ std::string runSweep(const EvalOptions& cl, const std::string& preset) {
   plan.agents =
       cl.agents.empty() ? agentRegistry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
-  plan.max_steps = cl.max_steps > 0 ? cl.max_steps : kSweepMaxSteps;
+  plan.max_steps = cl.max_steps.value_or(kSweepMaxSteps);
   const std::string stem = (fs::path(cl.out) / plan.scenes.name).string();
   writeSweepModelsCsv(scenes.models, stem + "_models.csv");
   const auto records = runPlanToCsv(plan, stem + ".csv");

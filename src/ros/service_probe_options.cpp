@@ -19,23 +19,9 @@ const OptionTable<ServiceSoakOptions>& serviceSoakOptionTable() {
   using Options = ServiceSoakOptions;
   static const auto table =
       OptionTable<Options>()
-          .add("steps", &Options::steps, OptionSpec("steps through the services").atLeast(1))
-          .add("reset_every", &Options::reset_every,
-               OptionSpec("steps per episode at most").atLeast(1))
-          .add("report_every", &Options::report_every,
-               OptionSpec("steps per line of the report").atLeast(1))
-          .add("warmup", &Options::warmup,
-               OptionSpec("steps before the memory baseline is taken").atLeast(0))
-          .add("check", &Options::check,
-               OptionSpec("exit 1 when a request failed, memory grew or the rate decayed beyond "
-                          "the limits"))
-          .add("max_growth_mb", &Options::max_growth_mib,
-               OptionSpec("check: the simulator's memory growth after warm-up at most")
-                   .unit("MiB")
-                   .atLeast(0))
-          .add("min_rate_ratio", &Options::min_rate_ratio,
-               OptionSpec("check: the last window's step rate at least this part of the first's")
-                   .range(0, 1))
+          .include(eval::soakOptionTable(), [](Options& o) -> eval::SoakOptions& { return o.soak; })
+          .include(eval::soakLimitsTable(),
+                   [](Options& o) -> eval::SoakLimits& { return o.limits; })
           .add("simulator", &Options::simulator,
                OptionSpec("the simulator node, whose memory is watched (same machine)"));
   return table;

@@ -75,46 +75,4 @@ std::vector<std::string> splitList(const std::string& flag, const std::string& t
   }
 }
 
-ArgumentReader::ArgumentReader(int argc, const char* const* argv) {
-  for (int i = 1; i < argc; ++i) arguments_.emplace_back(argv[i]);
-}
-
-bool ArgumentReader::next() {
-  if (index_ >= arguments_.size()) return false;
-  flag_ = arguments_[index_++];
-  return true;
-}
-
-std::string ArgumentReader::text() {
-  if (index_ >= arguments_.size()) throw ArgumentError(flag_ + " needs a value");
-  return arguments_[index_++];
-}
-
-long long ArgumentReader::integer(long long minimum, long long maximum) {
-  return parseInteger(flag_, text(), minimum, maximum);
-}
-
-std::uint64_t ArgumentReader::unsignedInteger() {
-  return parseUnsigned(flag_, text());
-}
-
-double ArgumentReader::number(double minimum, double maximum) {
-  return parseNumber(flag_, text(), minimum, maximum);
-}
-
-std::vector<std::string> ArgumentReader::list() {
-  return splitList(flag_, text());
-}
-
-std::vector<double> ArgumentReader::numbers(double minimum, double maximum) {
-  std::vector<double> values;
-  for (const std::string& item : list())
-    values.push_back(parseNumber(flag_, item, minimum, maximum));
-  return values;
-}
-
-void ArgumentReader::unknown() const {
-  throw ArgumentError("unknown option " + quoted(flag_));
-}
-
 }  // namespace occlusion_env::tools

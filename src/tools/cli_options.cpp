@@ -44,7 +44,12 @@ std::string helpText(const OptionSpec& spec, const nlohmann::json& default_value
   const std::string allowed = spec.allowedText();
   if (!allowed.empty()) help += "; " + allowed;
   if (!spec.unit().empty()) help += " [" + spec.unit() + "]";
-  if (default_value.is_null()) return help;  // an unset optional: its help says what happens
+  // An unset optional, an empty text or list: the help says what happens then.
+  if (default_value.is_null() ||
+      (default_value.is_string() && default_value.get_ref<const std::string&>().empty()) ||
+      (default_value.is_array() && default_value.empty())) {
+    return help;
+  }
   return help + " (default " + displayValue(default_value) + ")";
 }
 
@@ -59,6 +64,16 @@ int parseCommandLine(CLI::App& app, int argc, const char* const* argv) {
     return 2;
   }
   return -1;
+}
+
+int parseAndRun(CLI::App& app, int argc, const char* const* argv, const std::function<int()>& run) {
+  if (const int exit_code = parseCommandLine(app, argc, argv); exit_code >= 0) return exit_code;
+  try {
+    return run();
+  } catch (const std::exception& error) {
+    std::cerr << "\n" << app.get_name() << ": " << error.what() << "\n";
+    return 1;
+  }
 }
 
 }  // namespace occlusion_env::tools

@@ -6,7 +6,6 @@
 // stopped on a view that is truly clear, stopped too early, or run to the step limit.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
-#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -19,109 +18,67 @@
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
 #include "occlusion_env/render/depth_encoding.hpp"
-#include "occlusion_env/tools/arguments.hpp"
+#include "occlusion_env/tools/cli_options.hpp"
 
 namespace {
 
-constexpr const char* kUsage = R"(Usage: occlusion_bridge_calibration [options]
-Runs an agent on validation scenes as it would run behind the camera bridge (the episode does not
-stop when the view is truly clear), estimates every view's occlusion with the network, and prints,
-for each rule, what the bridge would do: stop when the estimate (pixels above the probability)
-has been at most the threshold on the last confirm-views views.
-Seeds must lie below 1,000,000: thresholds are chosen on validation scenes, never on test scenes.
+using occlusion_env::OptionSpec;
+using occlusion_env::OptionTable;
 
-Options:
-  --agent NAME        the agent that moves (default predicted_escape)
-  --model PATH        the network for the estimate, and the agent's model if it needs one
-                      (default: the shipped models/multitask_unet64.pt)
-  --scenes N          number of scenes (default 50)
-  --first-seed N      (default 900000: the validation range 900,000-999,999)
-  --max-steps N       steps per episode (default 50)
-  --thresholds A,B..  candidate ~occlusion_threshold values [px at the image's resolution]
-                      (default 0,16,64,256)
-  --probabilities ..  candidate ~occlusion_probability values (default 0.1,0.2,0.3,0.5)
-  --confirm-views ..  candidate ~confirm_views values: the estimate must be at or below the
-                      threshold on this many views in a row (default 1,2,3)
-  --millimetre-depth  round depth to millimetres first, as 16UC1 drivers send it
-  --source S          embedded | sweethome3d (default sweethome3d)
-  --category C        repeatable (default chair and table)
-  --model-split S     all | train | test (default train: the models the network was trained on)
-  --size N            image width and height [px] (default 256)
-  --help              this text
-)";
-
-[[noreturn]] void fail(const std::string& message) {
-  std::cerr << "occlusion_bridge_calibration: " << message << "\n(--help lists the options)\n";
-  std::exit(2);
-}
-
+/// The tool's own options; the scenes' come from environmentOptionTable().
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
   std::string agent = "predicted_escape";
-  std::string model;
+  std::string model;  // the shipped network unless given
   int scenes = 50;
   long long first_seed = 900000;
-  int max_steps = 50;
   std::vector<double> thresholds = {0, 16, 64, 256};
   std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
   std::vector<double> confirm_views = {1, 2, 3};
   bool millimetre_depth = false;
+  int size = 256;
+
+  Arguments() : model(occlusion_env::learning::defaultModelPath()) {
+    options.catalog.source = "sweethome3d";
+    options.scene.categories = {"chair", "table"};
+    options.scene.model_split = occlusion_env::ModelSplit::kTrain;
+  }
 };
 
-Arguments parse(int argc, char** argv) {
-  Arguments args;
-  args.options.catalog.source = "sweethome3d";
-  args.options.scene.model_split = occlusion_env::ModelSplit::kTrain;
-  std::vector<std::string> categories;
-  occlusion_env::tools::ArgumentReader reader(argc, argv);
-  try {
-    while (reader.next()) {
-      const std::string& flag = reader.flag();
-      if (flag == "--help" || flag == "-h") {
-        std::cout << kUsage;
-        std::exit(0);
-      } else if (flag == "--agent") {
-        args.agent = reader.text();
-      } else if (flag == "--model") {
-        args.model = reader.text();
-      } else if (flag == "--scenes") {
-        args.scenes = static_cast<int>(reader.integer(1, 100000));
-      } else if (flag == "--first-seed") {
-        args.first_seed = reader.integer(0, 999999);
-      } else if (flag == "--max-steps") {
-        args.max_steps = static_cast<int>(reader.integer(1, 100000));
-      } else if (flag == "--thresholds") {
-        args.thresholds = reader.numbers(0.0, 1e9);
-      } else if (flag == "--probabilities") {
-        args.probabilities = reader.numbers(1e-6, 1.0 - 1e-6);
-      } else if (flag == "--confirm-views") {
-        args.confirm_views = reader.numbers(1, 1000);
-      } else if (flag == "--millimetre-depth") {
-        args.millimetre_depth = true;
-      } else if (flag == "--source") {
-        args.options.catalog.source = reader.text();
-      } else if (flag == "--category") {
-        categories.push_back(reader.text());
-      } else if (flag == "--model-split") {
-        args.options.scene.model_split = occlusion_env::parseModelSplit(reader.text());
-      } else if (flag == "--size") {
-        args.options.width = args.options.height = static_cast<int>(reader.integer(64, 1024));
-      } else {
-        reader.unknown();
-      }
-    }
-  } catch (const std::exception& error) {
-    fail(error.what());
-  }
+const OptionTable<Arguments>& argumentTable() {
+  static const auto table =
+      OptionTable<Arguments>()
+          .add("agent", &Arguments::agent, OptionSpec("the agent that moves"))
+          .add("model", &Arguments::model,
+               OptionSpec("the network for the estimate, and the agent's model if it needs one"))
+          .add("scenes", &Arguments::scenes, OptionSpec("number of scenes").range(1, 100000))
+          .add("first_seed", &Arguments::first_seed,
+               OptionSpec("the first seed (validation range 900,000-999,999)").range(0, 999999))
+          .add("thresholds", &Arguments::thresholds,
+               OptionSpec("candidate ~occlusion_threshold values at the image's resolution")
+                   .unit("px")
+                   .range(0, 1e9))
+          .add("probabilities", &Arguments::probabilities,
+               OptionSpec("candidate ~occlusion_probability values").range(1e-6, 1.0 - 1e-6))
+          .add("confirm_views", &Arguments::confirm_views,
+               OptionSpec("candidate ~confirm_views values: the estimate must be at or below the "
+                          "threshold on this many views in a row")
+                   .range(1, 1000))
+          .add("millimetre_depth", &Arguments::millimetre_depth,
+               OptionSpec("round depth to millimetres first, as 16UC1 drivers send it"))
+          .add("size", &Arguments::size,
+               OptionSpec("image width and height").unit("px").range(64, 1024));
+  return table;
+}
+
+/// Thresholds are chosen on validation scenes, never on test scenes.
+void checkSeeds(const Arguments& args) {
   if (args.first_seed + args.scenes > static_cast<long long>(occlusion_env::kFirstTestSeed)) {
-    fail("seeds " + std::to_string(args.first_seed) + ".." +
-         std::to_string(args.first_seed + args.scenes - 1) +
-         " reach the test range (>= 1,000,000): choose thresholds on validation scenes");
+    throw CLI::ValidationError(
+        "seeds " + std::to_string(args.first_seed) + ".." +
+        std::to_string(args.first_seed + args.scenes - 1) +
+        " reach the test range (>= 1,000,000): choose thresholds on validation scenes");
   }
-  args.options.scene.categories =
-      categories.empty() ? std::vector<std::string>{"chair", "table"} : categories;
-  if (args.model.empty()) args.model = occlusion_env::learning::defaultModelPath();
-  return args;
 }
 
 // One view of an episode: the truth and the estimate at each probability threshold.
@@ -143,18 +100,18 @@ std::size_t stopOf(const std::vector<View>& path, std::size_t probability, doubl
   return path.size();
 }
 
-// The agent's episode on each scene, as it would run behind the bridge (never stopped by the
-// truth): views[scene][t], the start view, then one per step, always max_steps + 1 of them.
-std::vector<std::vector<View>> recordViews(const Arguments& args) {
+/// views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
+std::vector<std::vector<View>> collectViews(const Arguments& args) {
   using namespace occlusion_env;
   const AgentRegistry registry = learning::learningAgents();
-  Environment environment(args.options);
+  EnvironmentOptions options = args.options;
+  options.width = options.height = args.size;
+  Environment environment(options);
   const std::unique_ptr<Agent> agent = registry.make(args.agent, {environment, args.model});
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
   std::vector<learning::OcclusionEstimator> estimators;
   for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
   cv::Mat mask, depth_16u, depth_mm;
-
   std::vector<std::vector<View>> views(args.scenes);
   for (int scene = 0; scene < args.scenes; ++scene) {
     const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
@@ -177,10 +134,9 @@ std::vector<std::vector<View>> recordViews(const Arguments& args) {
             estimator.estimate(observation.rgb, observation.depth, mask).occluded_pixels);
       }
       views[scene].push_back(view);
-      if (t == args.max_steps) break;
-      const Action move =
-          cameraMoveFor(agent->act(observation, info), environment.options().step_size_rad,
-                        environment.options().normalize_action);
+      if (t == options.max_steps) break;
+      const Action move = cameraMoveFor(agent->act(observation, info), options.step_size_rad,
+                                        options.normalize_action);
       info = environment.viewFrom(
           environment.camera().moved(info.pose, move.d_azimuth_rad, move.d_elevation_rad));
       info.step_index = t + 1;
@@ -191,22 +147,23 @@ std::vector<std::vector<View>> recordViews(const Arguments& args) {
   return views;
 }
 
-// What the agent reaches: the scenes whose path passes a truly clear view, and how soon.
-void printHeading(const Arguments& args, const std::vector<std::vector<View>>& views) {
+/// What was run, and how far the agent's paths get without a stop.
+void printHeader(const Arguments& args, const std::vector<std::vector<View>>& views) {
   using namespace occlusion_env;
+  const int max_steps = args.options.max_steps;
   int reached = 0;              // scenes whose path passes a truly clear view
   double steps_to_clear = 0.0;  // to the first truly clear view; the limit where there is none
   for (const auto& path : views) {
     const auto clear = std::find_if(path.begin() + 1, path.end(),
                                     [](const View& v) { return v.true_pixels == 0; });
     reached += clear != path.end();
-    steps_to_clear += clear != path.end() ? clear - path.begin() : args.max_steps;
+    steps_to_clear += clear != path.end() ? clear - path.begin() : max_steps;
   }
   std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
             << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
-            << ", split " << toString(args.options.scene.model_split) << ", " << args.options.width
-            << " px" << (args.millimetre_depth ? ", depth in millimetres" : "") << "), "
-            << args.max_steps << " steps at most\n"
+            << ", split " << toString(args.options.scene.model_split) << ", " << args.size << " px"
+            << (args.millimetre_depth ? ", depth in millimetres" : "") << "), " << max_steps
+            << " steps at most\n"
             << "estimate: " << args.model << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
             << " scenes, after " << std::fixed << std::setprecision(1)
@@ -217,54 +174,64 @@ void printHeading(const Arguments& args, const std::vector<std::vector<View>>& v
             << "|---:|---:|---:|---:|---:|---:|---:|\n";
 }
 
-// One row per rule (probability, threshold, confirm views): where the bridge would stop.
-void printRuleTable(const Arguments& args, const std::vector<std::vector<View>>& views) {
-  for (std::size_t p = 0; p < args.probabilities.size(); ++p) {
-    for (const double threshold : args.thresholds) {
-      for (const double confirm : args.confirm_views) {
-        int clear = 0, never = 0;
-        std::vector<std::int64_t> early_pixels;
-        double steps = 0.0;
-        for (const auto& path : views) {
-          const std::size_t stop = stopOf(path, p, threshold, static_cast<int>(confirm));
-          if (stop == path.size()) {
-            ++never;
-            steps += args.max_steps;
-          } else if (path[stop].true_pixels == 0) {
-            ++clear;
-            steps += static_cast<double>(stop);
-          } else {
-            early_pixels.push_back(path[stop].true_pixels);
-            steps += static_cast<double>(stop);
-          }
-        }
-        std::sort(early_pixels.begin(), early_pixels.end());
-        std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold)
-                  << " | " << confirm << " | " << clear << " | " << early_pixels.size();
-        if (!early_pixels.empty())
-          std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
-        std::cout << " | " << never << " | " << std::fixed << std::setprecision(1)
-                  << steps / args.scenes << std::defaultfloat << " |\n";
-      }
+/// One row of the table: the rule (probability p, threshold, confirm) on every path.
+void printRule(const Arguments& args, const std::vector<std::vector<View>>& views, std::size_t p,
+               double threshold, double confirm) {
+  int clear = 0, never = 0;
+  std::vector<std::int64_t> early_pixels;
+  double steps = 0.0;
+  for (const auto& path : views) {
+    const std::size_t stop = stopOf(path, p, threshold, static_cast<int>(confirm));
+    if (stop == path.size()) {
+      ++never;
+      steps += args.options.max_steps;
+    } else if (path[stop].true_pixels == 0) {
+      ++clear;
+      steps += static_cast<double>(stop);
+    } else {
+      early_pixels.push_back(path[stop].true_pixels);
+      steps += static_cast<double>(stop);
     }
   }
+  std::sort(early_pixels.begin(), early_pixels.end());
+  std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold)
+            << " | " << confirm << " | " << clear << " | " << early_pixels.size();
+  if (!early_pixels.empty()) std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
+  std::cout << " | " << never << " | " << std::fixed << std::setprecision(1) << steps / args.scenes
+            << std::defaultfloat << " |\n";
 }
 
 int run(const Arguments& args) {
-  const std::vector<std::vector<View>> views = recordViews(args);
-  printHeading(args, views);
-  printRuleTable(args, views);
+  const std::vector<std::vector<View>> views = collectViews(args);
+  printHeader(args, views);
+  for (std::size_t p = 0; p < args.probabilities.size(); ++p) {
+    for (const double threshold : args.thresholds) {
+      for (const double confirm : args.confirm_views) printRule(args, views, p, threshold, confirm);
+    }
+  }
   return 0;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Arguments args = parse(argc, argv);
-  try {
-    return run(args);
-  } catch (const std::exception& error) {
-    std::cerr << "occlusion_bridge_calibration: " << error.what() << "\n";
-    return 1;
-  }
+  using namespace occlusion_env;
+  Arguments args;
+  CLI::App app(
+      "Runs an agent on validation scenes as it would run behind the camera bridge (the episode "
+      "does not\nstop when the view is truly clear), estimates every view's occlusion with the "
+      "network, and prints,\nfor each rule, what the bridge would do: stop when the estimate "
+      "(pixels above the probability)\nhas been at most the threshold on the last confirm-views "
+      "views. Seeds must lie below 1,000,000:\nthresholds are chosen on validation scenes, never "
+      "on test scenes.",
+      "occlusion_bridge_calibration");
+  tools::addOptionFlags(app, argumentTable(), args, {"agent", "model", "scenes", "first_seed"});
+  tools::addOptionFlags(app, environmentOptionTable(), args.options, {"max_steps"});
+  tools::addOptionFlags(app, argumentTable(), args,
+                        {"thresholds", "probabilities", "confirm_views", "millimetre_depth"});
+  tools::addOptionFlags(app, environmentOptionTable(), args.options,
+                        {"catalog_source", "categories", "model_split"});
+  tools::addOptionFlags(app, argumentTable(), args, {"size"});
+  app.callback([&args] { checkSeeds(args); });
+  return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

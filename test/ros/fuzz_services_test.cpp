@@ -92,6 +92,7 @@ TEST(FuzzServices, EveryHostileRequestGetsAResultOrAnErrorStatus) {
   const std::string reset_name = node.resolveName(names::kResetService);
   const std::string step_name = node.resolveName(names::kStepService);
   ASSERT_TRUE(ros::service::waitForService(reset_name, ros::Duration(20.0)));
+  ASSERT_TRUE(ros::service::waitForService(step_name, ros::Duration(20.0)));
   ros::ServiceClient reset_client = node.serviceClient<Reset>(reset_name, /*persistent=*/true);
   ros::ServiceClient step_client = node.serviceClient<Step>(step_name, /*persistent=*/true);
   const std::vector<std::string> ids = embeddedIds();

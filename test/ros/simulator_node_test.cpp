@@ -540,10 +540,14 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "simulator_node_test");
   ros::AsyncSpinner spinner(1);  // subscription callbacks; the tests run on this thread
   spinner.start();
-  if (!ros::service::waitForService(std::string("/") + occlusion_env::names::kNamespace + "/" +
-                                        occlusion_env::names::kResetService,
-                                    ros::Duration(30.0))) {
-    ADD_FAILURE() << "the simulator's reset service did not appear in 30 s";
+  // The node advertises its services one after another: wait for each, not just the first.
+  for (const char* service :
+       {occlusion_env::names::kResetService, occlusion_env::names::kStepService,
+        occlusion_env::names::kGradientService}) {
+    const std::string name = std::string("/") + occlusion_env::names::kNamespace + "/" + service;
+    if (!ros::service::waitForService(name, ros::Duration(30.0))) {
+      ADD_FAILURE() << "the simulator's service " << name << " did not appear in 30 s";
+    }
   }
   const int result = RUN_ALL_TESTS();
   ros::shutdown();

@@ -57,21 +57,5 @@ TEST(ArgumentsTest, ListsRefuseEmptyItems) {
   }
 }
 
-TEST(ArgumentsTest, ReaderWalksFlagsAndValues) {
-  const char* argv[] = {"tool", "--size", "128", "--check", "--action", "-1,0.5", "--out"};
-  ArgumentReader args(7, argv);
-  ASSERT_TRUE(args.next());
-  EXPECT_EQ(args.flag(), "--size");
-  EXPECT_EQ(args.integer(64, 1024), 128);
-  ASSERT_TRUE(args.next());
-  EXPECT_EQ(args.flag(), "--check");
-  ASSERT_TRUE(args.next());
-  EXPECT_EQ(args.numbers(-10.0, 10.0), (std::vector<double>{-1.0, 0.5}));
-  ASSERT_TRUE(args.next());
-  EXPECT_EQ(errorOf([&] { args.text(); }), "--out needs a value");
-  EXPECT_FALSE(args.next());
-  EXPECT_EQ(errorOf([&] { args.unknown(); }), "unknown option '--out'");
-}
-
 }  // namespace
 }  // namespace occlusion_env::tools

@@ -16,6 +16,8 @@ struct ToolArguments {
   bool check = false;
   std::vector<std::string> agents{"random"};
   std::optional<double> azimuth_rad;
+  bool augment = true;
+  std::vector<std::string> classes{"chair", "table"};
 };
 
 const OptionTable<ToolArguments>& toolTable() {
@@ -24,7 +26,11 @@ const OptionTable<ToolArguments>& toolTable() {
           .add("seed", &ToolArguments::seed, OptionSpec("scene seed"))
           .add("check", &ToolArguments::check, OptionSpec("check only"))
           .add("agents", &ToolArguments::agents, OptionSpec("agents to run"))
-          .add("azimuth", &ToolArguments::azimuth_rad, OptionSpec("start azimuth").unit("rad"));
+          .add("azimuth", &ToolArguments::azimuth_rad, OptionSpec("start azimuth").unit("rad"))
+          .add("augment", &ToolArguments::augment,
+               OptionSpec("colour jitter").negatedFlag("--no-augment"))
+          .add("classes", &ToolArguments::classes,
+               OptionSpec("classes to draw").flag("--class").repeatable());
   return table;
 }
 
@@ -61,6 +67,36 @@ TEST(CliOptionsTest, FlagsStoreIntoTheirFields) {
   EXPECT_EQ(parsed.environment.scene.categories, (std::vector<std::string>{"chair", "table"}));
   EXPECT_EQ(parsed.environment.catalog.source, "sweethome3d");
   EXPECT_FALSE(parsed.environment.normalize_action);
+}
+
+TEST(CliOptionsTest, ANegatedFlagTurnsItsOptionOffAndTakesNoValue) {
+  EXPECT_TRUE(parse({}).tool.augment);
+  const Parsed parsed = parse({"--no-augment"});
+  ASSERT_EQ(parsed.exit_code, -1);
+  EXPECT_FALSE(parsed.tool.augment);
+  EXPECT_EQ(parse({"--no-augment", "true"}).exit_code, 2);
+  EXPECT_EQ(parse({"--augment"}).exit_code, 2);
+}
+
+TEST(CliOptionsTest, ARepeatedFlagReplacesTheDefaultList) {
+  EXPECT_EQ(parse({}).tool.classes, (std::vector<std::string>{"chair", "table"}));
+  EXPECT_EQ(parse({"--class", "sofa"}).tool.classes, (std::vector<std::string>{"sofa"}));
+  EXPECT_EQ(parse({"--class", "sofa", "--class", "bed"}).tool.classes,
+            (std::vector<std::string>{"sofa", "bed"}));
+}
+
+TEST(CliOptionsTest, ParseAndRunGivesTheExitCodes) {
+  const auto exitCode = [](std::vector<const char*> argv, const std::function<int()>& run) {
+    ToolArguments tool;
+    CLI::App app("test tool", "tool_under_test");
+    addOptionFlags(app, toolTable(), tool);
+    argv.insert(argv.begin(), "tool_under_test");
+    return parseAndRun(app, static_cast<int>(argv.size()), argv.data(), run);
+  };
+  EXPECT_EQ(exitCode({"--seed", "x"}, [] { return 0; }), 2);
+  EXPECT_EQ(exitCode({"--help"}, [] { return 1; }), 0);
+  EXPECT_EQ(exitCode({}, [] { return 3; }), 3);
+  EXPECT_EQ(exitCode({}, []() -> int { throw std::runtime_error("disk full"); }), 1);
 }
 
 TEST(CliOptionsTest, DefaultsStayWhenFlagsAreAbsent) {

@@ -31,7 +31,7 @@ using AgentFactory = std::function<std::unique_ptr<Agent>(const AgentContext&)>;
 
 struct AgentEntry {
   std::string name;     // lower_case, no commas or spaces
-  std::string summary;  // one sentence, for --help, the README and reports
+  std::string summary;  // one sentence, for --help, doc/AGENTS.md and reports
   AgentNeeds needs;
   /// false for references that read what a real camera cannot give (the oracle): they are
   /// reported beside the competitors, not as one.

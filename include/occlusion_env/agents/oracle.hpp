@@ -28,7 +28,13 @@ struct OracleOptions {
   double lattice_spacing_steps = 0.5;  // s / h, in (0, 1]
   int circle_directions = 64;          // poses tried on the one-step circle
   int max_steps = 50;                  // search radius: no answer beyond max_steps * h
+
+  /// Throws InvalidArgumentError naming the first option out of its declared range.
+  void validate() const;
 };
+
+/// The declared options of OracleOptions (flag --spacing for the lattice spacing).
+const OptionTable<OracleOptions>& oracleOptionTable();
 
 struct OracleAnswer {
   /// Fewest steps to an unoccluded view; 0 when the pose is unoccluded; -1 when there is none

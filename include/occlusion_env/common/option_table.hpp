@@ -72,10 +72,17 @@ class OptionSpec {
     flag_ = std::move(flag);
     return *this;
   }
-  /// List options: a repeated flag appends (--category chair --category table) instead of
-  /// taking one comma-separated list.
+  /// List options: one item per occurrence of the flag (--category chair --category table)
+  /// instead of one comma-separated list; given at all, the items replace the default list.
   OptionSpec& repeatable() {
     repeatable_ = true;
+    return *this;
+  }
+  /// Bool options: the command-line flag `flag` (e.g. "--no-augment"), given alone, sets the
+  /// option false; it takes no value.
+  OptionSpec& negatedFlag(std::string flag) {
+    flag_ = std::move(flag);
+    negated_ = true;
     return *this;
   }
 
@@ -88,6 +95,7 @@ class OptionSpec {
   const std::vector<std::string>& choices() const { return choices_; }
   const std::optional<std::string>& flag() const { return flag_; }
   bool isRepeatable() const { return repeatable_; }
+  bool isNegated() const { return negated_; }
 
   /// The allowed values in words: "(0, 3.14159]", ">= 1", "embedded | sweethome3d"; "" if any.
   std::string allowedText() const;
@@ -102,6 +110,7 @@ class OptionSpec {
   std::vector<std::string> choices_;
   std::optional<std::string> flag_;
   bool repeatable_ = false;
+  bool negated_ = false;
 };
 
 /// One declared option. Its value is read and written as JSON of its kind.

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "occlusion_env/agents/oracle.hpp"
+#include "occlusion_env/common/option_table.hpp"
 
 namespace occlusion_env {
 namespace dataset {
@@ -32,12 +33,17 @@ struct DatasetOptions {
   double validation_fraction = 0.2;  // whole scenes: every 1/fraction-th scene
   int threads = 2;                   // workers, one environment (GL context) each
 
-  /// The options that define the data (not how it is made): what a resumed run must match.
+  /// The options that define the data (not how it is made): what a resumed run must match. The
+  /// table's names but scenes and threads, with the model split and the step size.
   nlohmann::json definingJson() const;
   /// Throws InvalidArgumentError naming the first bad option; test seeds (>= 1,000,000) and
   /// anything but the train model split are refused here.
   void validate() const;
 };
+
+/// The declared options of DatasetOptions, by their manifest names; the flags are
+/// occlusion_dataset's.
+const OptionTable<DatasetOptions>& datasetOptionTable();
 
 struct GenerationReport {
   int scenes_written = 0;

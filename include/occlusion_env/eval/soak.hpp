@@ -7,7 +7,9 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
 
 namespace occlusion_env {
@@ -20,6 +22,19 @@ struct SoakOptions {
   long warmup = 1000;                 // steps before the memory baseline is taken
   std::uint64_t action_seed = 12345;  // the random directions
 };
+
+/// The soak's verdict: what --check / ~check hold it to.
+struct SoakLimits {
+  bool check = false;           // fail on a failed step or reset, memory growth or rate decay
+  double max_growth_mib = 5.0;  // memory growth after warm-up at most [MiB]
+  double min_rate_ratio = 0.7;  // the last window's step rate at least this part of the first's
+};
+
+/// The declared options of SoakOptions (steps, reset_every, report_every, warmup) and of
+/// SoakLimits (check, max_growth_mb, min_rate_ratio): occlusion_soak's flags and
+/// occlusion_service_soak's parameters.
+const OptionTable<SoakOptions>& soakOptionTable();
+const OptionTable<SoakLimits>& soakLimitsTable();
 
 /// One window of steps, reported at its end.
 struct SoakWindow {
@@ -52,6 +67,10 @@ struct SoakHooks {
 
 /// Resident set size of process `pid` (0: this process) [MiB], from /proc; -1 when unreadable.
 double residentMiB(int pid = 0);
+
+/// What makes the soak fail under `limits` (one sentence each); none when it passes or
+/// limits.check is off.
+std::vector<std::string> soakProblems(const SoakReport& report, const SoakLimits& limits);
 
 /// Runs the soak. Seeds 0, 1, ... in turn; a seed without an occluded start view
 /// (SceneGenerationError) is skipped, as a training loop would. A step that throws counts as a

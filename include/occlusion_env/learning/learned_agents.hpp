@@ -31,7 +31,7 @@ class NetworkDirectionAgent : public Agent {
   torch::Tensor input_;
 };
 
-/// The shipped model the learned agents use by default (models/, README "Learned agents").
+/// The shipped model the learned agents use by default (models/, doc/AGENTS.md).
 std::string defaultModelPath();
 
 /// A registry entry for an agent made from a model file: needs.model_file set, `make` given the

@@ -20,6 +20,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "occlusion_env/common/option_table.hpp"
+
 namespace occlusion_env {
 namespace learning {
 
@@ -34,11 +36,17 @@ struct NetworkConfig {
   int dilation() const { return variant == "sar_unet" ? 2 : 1; }
   int bottleneckChannels() const { return base_channels << levels; }
 
-  /// Throws InvalidArgumentError naming the bad field.
+  /// Throws InvalidArgumentError naming the bad field: the table's ranges and choices, then
+  /// input_size a multiple of 2^levels.
   void validate() const;
+  /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
+  /// Refuses unknown names and a missing field (every manifest states the whole network).
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
+
+/// The declared fields of NetworkConfig (flags --variant, --base, --size; levels has none).
+const OptionTable<NetworkConfig>& networkConfigTable();
 
 struct NetworkOutput {
   torch::Tensor occlusion_logits;    // [B, 1, S, S]

@@ -40,10 +40,17 @@ struct PolicyConfig {
   /// validation scenes the better one, doc/PPO.md): the mean's length is free.
   bool unit_mean = false;
 
+  /// Throws InvalidArgumentError naming the first option out of its declared range.
   void validate() const;
+  /// Every field by its table name (the "policy" of policy manifests).
   nlohmann::json toJson() const;
+  /// Refuses unknown names; a missing field keeps its default (unit_mean: policies from before
+  /// the option have the free length, as the default).
   static PolicyConfig fromJson(const nlohmann::json& json);
 };
+
+/// The declared fields of PolicyConfig (flags --no-rig, --unit-mean; hidden has none).
+const OptionTable<PolicyConfig>& policyConfigTable();
 
 class PolicyNetworkImpl : public torch::nn::Module {
  public:

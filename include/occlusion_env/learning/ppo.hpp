@@ -53,10 +53,21 @@ struct PpoOptions {
   int threads = 0;            // libtorch threads; 0 = the machine's cores
   int checkpoint_every = 10;  // updates
 
-  /// Throws InvalidArgumentError naming the first bad option.
+  /// Throws InvalidArgumentError naming the first bad option (the tables' ranges and choices,
+  /// then a backbone is required).
   void validate() const;
+  /// What a run records (resume key, policy manifests' "trained_with"): every option by its table
+  /// name, the policy as "policy"; threads and checkpoint_every (how, not what) left out.
   nlohmann::json toJson() const;
 };
+
+/// The declared options of PpoOptions but the policy (policyConfigTable()), by their manifest
+/// names; the flags are occlusion_train_ppo's (actor_from_escape has none: --actor-init there).
+const OptionTable<PpoOptions>& ppoOptionTable();
+
+/// The paper's Table 2 recipe where ours differs: actor from random weights, no rig inputs,
+/// free-length mean, lambda 1, minibatch 200, no KL stop, no gradient clipping.
+void applyPaperRecipe(PpoOptions& options);
 
 struct PpoEpisode {
   std::int64_t index = 0;      // 1-based, over the run

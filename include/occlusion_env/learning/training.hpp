@@ -74,9 +74,16 @@ struct TrainingOptions {
   // schedule and the optimizer start afresh on it (a warm restart). Empty: random weights.
   std::string init_from;
 
+  /// Throws InvalidArgumentError naming the first bad option (the tables' ranges and choices).
   void validate() const;
+  /// What a run records (checkpoint identity, manifests' "training"): every option by its table
+  /// name, the network as "network", init_from only when set; threads (how, not what) left out.
   nlohmann::json toJson() const;
 };
+
+/// The declared options of TrainingOptions but the network (networkConfigTable()), by their
+/// manifest names; the flags are occlusion_train's.
+const OptionTable<TrainingOptions>& trainingOptionTable();
 
 struct EpochMetrics {
   int epoch = 0;  // 1-based

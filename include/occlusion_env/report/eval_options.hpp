@@ -2,16 +2,18 @@
 // landscape, strip, networks and all), the agents they run and the plot script.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/eval/best.hpp"
 
 namespace occlusion_env {
 namespace report {
 
-/// occlusion_eval's options (its --help says what each does).
+/// occlusion_eval's options (evalOptionTable() says what each does).
 struct EvalOptions {
   // The mode: exactly one of these is set.
   std::string scenes;
@@ -23,10 +25,10 @@ struct EvalOptions {
   bool all = false;
 
   std::vector<std::string> agents;  // empty: the registry's competitors
-  int max_steps = -1;               // -1: the mode's default
-  int limit = -1;
+  std::optional<int> max_steps;     // none: the mode's default
+  std::optional<int> limit;         // none: every scene of the set
   std::string sweep_source = "embedded";
-  int sweep_models = -1;  // -1: defaultSweepModels(sweep_source)
+  std::optional<int> sweep_models;  // none: defaultSweepModels(sweep_source)
   std::string out = "evaluation";
   eval::BestOptions best;
   bool plots = true;
@@ -34,7 +36,14 @@ struct EvalOptions {
   std::string plot_script;
   std::string report;
   std::string model;
+
+  /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
+  /// fills source_dir and plot_script with their defaults when they are empty.
+  void resolve();
 };
+
+/// The declared options of EvalOptions; the flags are occlusion_eval's.
+const OptionTable<EvalOptions>& evalOptionTable();
 
 /// Every agent the evaluation knows, the learned ones too; built once.
 const AgentRegistry& agentRegistry();

@@ -1,5 +1,5 @@
 // The camera bridge: a real RGB-D camera on a robot behind the simulator's reset and step
-// services, so that every agent runs on it unchanged (README, "Using a real camera").
+// services, so that every agent runs on it unchanged (doc/CAMERA_BRIDGE.md).
 //
 // In: synchronised RGB, depth (32FC1 [m] or 16UC1 [mm]) and camera_info; tf from the sphere's
 // frame to the camera's optical frame. Out: a geometry_msgs/PoseStamped goal for the optical

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/eval/soak.hpp"
 #include "occlusion_env/ros/names.hpp"
 
 namespace occlusion_env {
@@ -18,14 +19,18 @@ struct ServiceBenchOptions {
 };
 
 struct ServiceSoakOptions {
-  int steps = 20000;            // steps through the services
-  int reset_every = 50;         // steps per episode at most
-  int report_every = 2000;      // steps per line of the report
-  int warmup = 1000;            // steps before the memory baseline is taken
-  bool check = false;           // exit 1 on failures, memory growth or rate decay beyond the limits
-  double max_growth_mib = 5.0;  // check: memory growth after warm-up at most [MiB]
-  double min_rate_ratio = 0.7;  // check: the last window's rate at least this part of the first's
+  eval::SoakOptions soak =
+      shorterSoak();        // the soak loop: steps, reset_every, report_every, warmup
+  eval::SoakLimits limits;  // check, max_growth_mb, min_rate_ratio
   std::string simulator = std::string("/") + names::kSimulatorNode;  // whose memory is watched
+
+  /// Through the services a step costs more: 20,000 steps, a line every 2,000.
+  static eval::SoakOptions shorterSoak() {
+    eval::SoakOptions soak;
+    soak.total_steps = 20000;
+    soak.report_every = 2000;
+    return soak;
+  }
 };
 
 /// occlusion_service_bench's parameters (names relative to its private namespace).

@@ -1,5 +1,5 @@
-// Command-line flags of the tools (occlusion_render, occlusion_eval, ...): one strict reader, so
-// that every tool rejects "--seed 1.5" or "--size 64px" the same way, naming the flag.
+// The strict parsing of command-line values behind the tools' flags (tools/cli_options.hpp):
+// every tool rejects "--seed 1.5" or "--size 64px" the same way, naming the flag.
 #pragma once
 
 #include <cstdint>
@@ -29,38 +29,5 @@ double parseNumber(const std::string& flag, const std::string& text, double mini
 
 /// Comma-separated items; empty items are refused. Throws ArgumentError naming `flag`.
 std::vector<std::string> splitList(const std::string& flag, const std::string& text);
-
-/// Walks argv flag by flag:
-///   ArgumentReader args(argc, argv);
-///   while (args.next()) {
-///     if (args.flag() == "--size") size = args.integer(64, 1024);
-///     else if (args.flag() == "--check") check = true;
-///     else args.unknown();
-///   }
-class ArgumentReader {
- public:
-  ArgumentReader(int argc, const char* const* argv);
-
-  /// Moves to the next argument; false when none is left.
-  bool next();
-  /// The current argument (a flag such as "--seed").
-  const std::string& flag() const { return flag_; }
-
-  /// The current flag's value: the argument after it, which is consumed.
-  std::string text();
-  long long integer(long long minimum, long long maximum);
-  std::uint64_t unsignedInteger();
-  double number(double minimum, double maximum);
-  std::vector<std::string> list();
-  std::vector<double> numbers(double minimum, double maximum);
-
-  /// Throws ArgumentError("unknown option ...").
-  [[noreturn]] void unknown() const;
-
- private:
-  std::vector<std::string> arguments_;
-  std::size_t index_ = 0;  // of the next argument to read
-  std::string flag_;
-};
 
 }  // namespace occlusion_env::tools

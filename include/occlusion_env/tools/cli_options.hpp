@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,65 +32,113 @@ std::string helpText(const OptionSpec& spec, const nlohmann::json& default_value
 /// tool: 0 done, 1 failed, 2 bad command line).
 int parseCommandLine(CLI::App& app, int argc, const char* const* argv);
 
+/// A tool's whole main after its flags are declared: parses argv (exit code 0 or 2 as
+/// parseCommandLine), then returns `run()`; an exception from it is printed as
+/// "<tool>: <what>" and gives exit code 1.
+int parseAndRun(CLI::App& app, int argc, const char* const* argv, const std::function<int()>& run);
+
+namespace cli_detail {
+
+inline bool isList(OptionKind kind) {
+  return kind == OptionKind::kStringList || kind == OptionKind::kIntegerList ||
+         kind == OptionKind::kNumberList;
+}
+
+/// The fields named by `keys` in that order, or every field when `keys` is empty.
+template <class Options>
+std::vector<const OptionField<Options>*> selectFields(const OptionTable<Options>& table,
+                                                      const std::vector<std::string>& keys) {
+  std::vector<const OptionField<Options>*> fields;
+  if (keys.empty()) {
+    for (const OptionField<Options>& field : table.fields()) fields.push_back(&field);
+  }
+  for (const std::string& key : keys) {
+    const OptionField<Options>* field = table.find(key);
+    if (field == nullptr) throw std::logic_error("no option " + key + " in the table");
+    fields.push_back(field);
+  }
+  return fields;
+}
+
+/// Checks and stores `value` as the table says; a bad value becomes CLI11's validation error.
+template <class Options>
+void store(const OptionTable<Options>& table, Options& options, const std::string& key,
+           const std::string& flag, const nlohmann::json& value) {
+  try {
+    table.set(options, key, value);
+  } catch (const InvalidArgumentError& error) {
+    throw CLI::ValidationError(flag, error.what());
+  }
+}
+
+/// A repeatable list flag: one item per occurrence; the items replace the default list.
+template <class Options>
+void addRepeatableFlag(CLI::App& app, const OptionTable<Options>& table, Options& options,
+                       const OptionField<Options>& field, const std::string& help) {
+  const std::string key = field.key, flag = field.flagName();
+  const OptionKind kind = field.kind;
+  auto collect = [&table, &options, key, flag, kind](const std::vector<std::string>& items) {
+    nlohmann::json list = nlohmann::json::array();
+    try {
+      for (const std::string& item : items) {
+        for (const nlohmann::json& value : parseOptionText(flag, kind, item)) list.push_back(value);
+      }
+    } catch (const ArgumentError& error) {
+      throw CLI::ValidationError(flag, error.what());
+    }
+    store(table, options, key, flag, list);
+  };
+  app.add_option_function<std::vector<std::string>>(flag, collect, help)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->type_name("TEXT");
+}
+
+/// A flag taking one value (a bool's value is optional: the flag alone means true).
+template <class Options>
+void addValueFlag(CLI::App& app, const OptionTable<Options>& table, Options& options,
+                  const OptionField<Options>& field, const std::string& help) {
+  const std::string key = field.key, flag = field.flagName();
+  const OptionKind kind = field.kind;
+  auto parse = [&table, &options, key, flag, kind](const std::string& text) {
+    nlohmann::json value;
+    try {
+      value = parseOptionText(flag, kind, text);
+    } catch (const ArgumentError& error) {
+      throw CLI::ValidationError(flag, error.what());
+    }
+    store(table, options, key, flag, value);
+  };
+  CLI::Option* option = app.add_option_function<std::string>(flag, parse, help);
+  if (kind == OptionKind::kBool) option->expected(0, 1)->type_name("[BOOL]");
+  if (kind == OptionKind::kInteger) option->type_name("INT");
+  if (kind == OptionKind::kNumber) option->type_name("NUM");
+  if (isList(kind)) option->type_name("A,B,...");
+}
+
+}  // namespace cli_detail
+
 /// Adds a flag for every field of `table` that has one (or for those named in `keys`, in that
 /// order). Each flag stores into `options` as it is parsed; help texts show the defaults that
 /// `options` holds when this is called.
 template <class Options>
 void addOptionFlags(CLI::App& app, const OptionTable<Options>& table, Options& options,
                     const std::vector<std::string>& keys = {}) {
-  std::vector<const OptionField<Options>*> fields;
-  if (keys.empty()) {
-    for (const OptionField<Options>& field : table.fields()) fields.push_back(&field);
-  } else {
-    for (const std::string& key : keys) {
-      const OptionField<Options>* field = table.find(key);
-      if (field == nullptr) throw std::logic_error("no option " + key + " in the table");
-      fields.push_back(field);
-    }
-  }
-  for (const OptionField<Options>* field : fields) {
+  for (const OptionField<Options>* field : cli_detail::selectFields(table, keys)) {
     const std::string flag = field->flagName();
     if (flag.empty()) continue;
     const std::string help = helpText(field->spec, field->get(options));
-    const bool list = field->kind == OptionKind::kStringList ||
-                      field->kind == OptionKind::kIntegerList ||
-                      field->kind == OptionKind::kNumberList;
-    const std::string& key = field->key;
-    if (list && field->spec.isRepeatable()) {
-      // One item per occurrence, appended to what the list held before the command line.
-      auto store = [&table, &options, key, flag](const std::vector<std::string>& items) {
-        nlohmann::json list = table.find(key)->get(options);
-        for (const std::string& item : items) {
-          for (const nlohmann::json& value : parseOptionText(flag, table.find(key)->kind, item)) {
-            list.push_back(value);
-          }
-        }
-        try {
-          table.set(options, key, list);
-        } catch (const InvalidArgumentError& error) {
-          throw CLI::ValidationError(flag, error.what());
-        }
-      };
-      app.add_option_function<std::vector<std::string>>(flag, store, help)
-          ->allow_extra_args(false)
-          ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
-          ->type_name("TEXT");
-      continue;
+    if (field->spec.isNegated()) {
+      const std::string key = field->key;
+      app.add_flag_callback(
+          flag,
+          [&table, &options, key, flag] { cli_detail::store(table, options, key, flag, false); },
+          "turns off: " + help);
+    } else if (cli_detail::isList(field->kind) && field->spec.isRepeatable()) {
+      cli_detail::addRepeatableFlag(app, table, options, *field, help);
+    } else {
+      cli_detail::addValueFlag(app, table, options, *field, help);
     }
-    auto store = [&table, &options, key, flag](const std::string& text) {
-      try {
-        table.set(options, key, parseOptionText(flag, table.find(key)->kind, text));
-      } catch (const ArgumentError& error) {
-        throw CLI::ValidationError(flag, error.what());
-      } catch (const InvalidArgumentError& error) {
-        throw CLI::ValidationError(flag, error.what());
-      }
-    };
-    CLI::Option* option = app.add_option_function<std::string>(flag, store, help);
-    if (field->kind == OptionKind::kBool) option->expected(0, 1)->type_name("[BOOL]");
-    if (field->kind == OptionKind::kInteger) option->type_name("INT");
-    if (field->kind == OptionKind::kNumber) option->type_name("NUM");
-    if (list) option->type_name("A,B,...");
   }
 }
 
