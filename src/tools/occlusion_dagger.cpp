@@ -1,7 +1,7 @@
 // occlusion_dagger: one DAgger round's data (learning/dagger.hpp): the predicted-escape agent of
 // a model rolled out on training scenes, every state it visits labelled by the oracle, written
 // as a dataset occlusion_train reads beside the base data; resumable (re-run the same command).
-//   occlusion_dagger --model models/multitask_unet64.pt --out data/dagger1 --scenes 1000 \
+//   occlusion_dagger --model models/multitask_unet64.pt --out data/dagger_1 --scenes 1000
 //       --first-seed 100000 --source sweethome3d --category chair --category table --size 128
 #include <iomanip>
 #include <iostream>
@@ -44,14 +44,15 @@ int run(const Arguments& args) {
         bar->update(done, std::to_string(frames) + " states");
       });
   if (bar) bar->finish();
-  const double per_scene = report.scenes_written > 0 ? report.scenes_written : 1;
+  const double per_scene = report.scenes_written;
   std::cout << std::fixed << std::setprecision(1) << "occlusion_dagger: " << report.scenes_written
             << " scenes written (" << report.frames_written << " labelled states, "
             << report.expert_moves << " oracle moves executed, " << report.successes
             << " roll-outs unoccluded), " << report.scenes_skipped << " complete already; "
             << report.seconds << " s, "
-            << (report.seconds > 0 ? report.frames_written / report.seconds : 0.0) << " states/s\n"
-            << std::setprecision(3) << "  per scene (summed over workers): roll-out "
+            << (report.seconds > 0 ? report.frames_written / report.seconds : 0.0) << " states/s\n";
+  if (report.scenes_written == 0) return 0;
+  std::cout << std::setprecision(3) << "  per scene (summed over workers): roll-out "
             << report.rollout_seconds / per_scene << " s, writing "
             << report.write_seconds / per_scene << " s of which the oracle's labels "
             << report.oracle_seconds / per_scene << " s ("
