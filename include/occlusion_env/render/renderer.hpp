@@ -41,6 +41,10 @@ struct RenderBuffers {
   /// pixels and those of the new footprint, so do not write into the images (clone them) and do
   /// not render into two RenderBuffers that share pixels.
   cv::Rect footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  /// The union of the objects' footprints in the last render [px], background or not: outside it
+  /// instance, amodal_bits and object_depth hold the background (0, 0, +inf). Equals `footprint`
+  /// for a scene without a background. Unbounded until the first render.
+  cv::Rect target_footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
 };
 
 /// The light of a scene: ambient + diffuse * colour * max(n . l, 0) times each surface's colour.
