@@ -128,6 +128,34 @@ void main() {
 }
 )";
 
+// Tiled surfaces (SceneBackground::tiled): one quad, each cell's colour fetched from a texture
+// of sRGB-encoded albedos and scaled by the surface's sRGB-encoded light (the encoding x^(1/2.2)
+// is multiplicative, so this equals encoding the lit colour).
+constexpr const char* kTiledVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_position;  // world frame [m]
+layout(location = 1) in vec3 a_cell;      // cell coordinates (u, v, 0)
+uniform mat4 u_clip_from_object;
+out vec2 v_cell;
+void main() {
+  v_cell = a_cell.xy;
+  gl_Position = u_clip_from_object * vec4(a_position, 1.0);
+}
+)";
+
+constexpr const char* kTiledFragmentShader = R"(#version 330 core
+in vec2 v_cell;
+uniform sampler2D u_cells;   // RGBA32F, sRGB-encoded albedo per cell
+uniform vec3 u_gain;         // the surface's light, sRGB-encoded
+uniform ivec2 u_last_cell;
+layout(location = 0) out vec4 o_color;   // RGBA8
+layout(location = 1) out float o_depth;  // R32F, optical z [m]
+void main() {
+  ivec2 cell = clamp(ivec2(floor(v_cell)), ivec2(0), u_last_cell);
+  o_color = vec4(min(texelFetch(u_cells, cell, 0).rgb * u_gain, vec3(1.0)), 1.0);
+  o_depth = 1.0 / gl_FragCoord.w;
+}
+)";
+
 std::string fragmentShaderSource() {
   return "#version 330 core\nconst int kMaxObjects = " + std::to_string(kMaxSceneObjects) + ";" +
          kShadingSource + kFragmentShaderBody;
@@ -231,6 +259,19 @@ void fillRect(cv::Mat& mat, const cv::Rect& rect, Pixel value) {
   }
 }
 
+void validateTiled(const TiledSurface& surface, const std::string& what) {
+  constexpr int kMaxCells = 4096;  // per side; every GL 3.3 implementation takes such textures
+  if (surface.cells_u < 1 || surface.cells_v < 1 || surface.cells_u > kMaxCells ||
+      surface.cells_v > kMaxCells ||
+      surface.colors.size() != static_cast<std::size_t>(surface.cells_u) * surface.cells_v) {
+    throw InvalidArgumentError(what + " needs 1.." + std::to_string(kMaxCells) +
+                               " cells a side and one colour per cell");
+  }
+  if (!surface.origin.allFinite() || !(surface.step_u.cross(surface.step_v).norm() > 0.0f)) {
+    throw InvalidArgumentError(what + " must be a finite, non-degenerate rectangle");
+  }
+}
+
 void validatePlaced(const PlacedMesh& placed, const std::string& what) {
   const Mesh* mesh = placed.mesh;
   if (mesh == nullptr || mesh->empty()) throw InvalidArgumentError(what + " has no mesh");
@@ -260,6 +301,9 @@ class OsMesaRenderer final : public Renderer {
   std::string name() const override { return "osmesa"; }
 
  private:
+  // A tiled surface: its quad (cell coordinates in the colour attribute) and cell texture.
+  struct GpuTiles;
+
   // GL objects of one uploaded mesh.
   struct GpuMesh {
     GLuint vertex_array = 0;
@@ -274,6 +318,13 @@ class OsMesaRenderer final : public Renderer {
   // Pixels an object can cover: x, y = first column, row; all of the image when unsure.
   struct PixelRect {
     int x = 0, y = 0, width = 0, height = 0;
+  };
+
+  struct GpuTiles {
+    GpuMesh quad;
+    GLuint texture = 0;
+    Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();  // world frame, the side it is seen from
+    int last_u = 0, last_v = 0;                         // last cell
   };
 
   // A linked program and its uniforms (-1 where it has none).
@@ -304,6 +355,9 @@ class OsMesaRenderer final : public Renderer {
   static Program makeProgram(const std::string& fragment_source, const char* what,
                              const char* vertex_source = kVertexShader);
   void createBackgroundTargets();
+  static void uploadTiles(const TiledSurface& surface, GpuTiles& gpu);
+  void drawTiles(const GpuTiles& tiles, const Eigen::Matrix4d& optical_from_world);
+  bool hasBackground() const { return num_background_ + num_tiled_ > 0; }
   void setLighting(const Program& program, const Eigen::Matrix4d& optical_from_world);
   void drawMesh(const Program& program, const GpuMesh& mesh,
                 const Eigen::Matrix4d& optical_from_world);
@@ -329,7 +383,12 @@ class OsMesaRenderer final : public Renderer {
   // made on the first setBackground() with meshes.
   Program background_program_;
   Program prelit_program_;  // for one-sided meshes under a light fixed in the world
-  bool prelit_ = false;     // whether the one-sided meshes were uploaded pre-lit
+  Program tiled_program_;
+  GLint gain_location_ = -1;
+  GLint last_cell_location_ = -1;
+  std::vector<GpuTiles> tiled_;
+  int num_tiled_ = 0;
+  bool prelit_ = false;  // whether the one-sided meshes were uploaded pre-lit
   GLuint background_framebuffer_ = 0;
   std::vector<GpuMesh> background_meshes_;  // one-sided first, then two-sided
   int num_one_sided_ = 0;
@@ -441,6 +500,9 @@ void OsMesaRenderer::createBackgroundTargets() {
   const CameraIntrinsics& k = intrinsics_;
   background_program_ = makeProgram(backgroundShaderSource(), "background");
   prelit_program_ = makeProgram(kPrelitFragmentShader, "pre-lit background", kPrelitVertexShader);
+  tiled_program_ = makeProgram(kTiledFragmentShader, "tiled background", kTiledVertexShader);
+  gain_location_ = glGetUniformLocation(tiled_program_.id, "u_gain");
+  last_cell_location_ = glGetUniformLocation(tiled_program_.id, "u_last_cell");
   glGenFramebuffers(1, &background_framebuffer_);
   glBindFramebuffer(GL_FRAMEBUFFER, background_framebuffer_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
@@ -568,12 +630,25 @@ void OsMesaRenderer::setBackground(const SceneBackground& background) {
                                    : background.two_sided[i - background.one_sided.size()];
     validatePlaced(placed, "renderer: background mesh " + std::to_string(i));
   }
+  for (std::size_t i = 0; i < background.tiled.size(); ++i) {
+    validateTiled(background.tiled[i], "renderer: tiled surface " + std::to_string(i));
+  }
   if (!background.lighting.to_light_world.allFinite() || !background.lighting.color.allFinite() ||
       !std::isfinite(background.lighting.ambient) || !std::isfinite(background.lighting.diffuse)) {
     throw InvalidArgumentError("renderer: the lighting must be finite");
   }
   makeCurrent();
-  if (count > 0 && background_framebuffer_ == 0) createBackgroundTargets();
+  if (count + background.tiled.size() > 0 && background_framebuffer_ == 0) {
+    createBackgroundTargets();
+  }
+  while (tiled_.size() < background.tiled.size()) {
+    tiled_.emplace_back();
+    createGpuMesh(tiled_.back().quad);
+    glGenTextures(1, &tiled_.back().texture);
+  }
+  for (std::size_t i = 0; i < background.tiled.size(); ++i)
+    uploadTiles(background.tiled[i], tiled_[i]);
+  num_tiled_ = static_cast<int>(background.tiled.size());
   while (background_meshes_.size() < count) {
     background_meshes_.emplace_back();
     createGpuMesh(background_meshes_.back());
@@ -597,6 +672,58 @@ void OsMesaRenderer::setBackground(const SceneBackground& background) {
   num_background_ = static_cast<int>(count);
   lighting_ = background.lighting;
   throwOnGlError("setBackground");
+}
+
+void OsMesaRenderer::uploadTiles(const TiledSurface& surface, GpuTiles& gpu) {
+  const Eigen::Vector3f u = surface.step_u * static_cast<float>(surface.cells_u);
+  const Eigen::Vector3f v = surface.step_v * static_cast<float>(surface.cells_v);
+  const Eigen::Vector3f& o = surface.origin;
+  const float cu = static_cast<float>(surface.cells_u), cv = static_cast<float>(surface.cells_v);
+  // Counter-clockwise seen from the side step_u x step_v points to.
+  const std::vector<Eigen::Vector3f> corners = {o, o + u, o + u + v, o + v};
+  uploadArrays(corners,
+               {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(cu, 0, 0), Eigen::Vector3f(cu, cv, 0),
+                Eigen::Vector3f(0, cv, 0)},
+               {0, 1, 2, 0, 2, 3}, gpu.quad);
+  gpu.quad.world_from_object = Eigen::Matrix4d::Identity();
+  gpu.quad.bounds = Eigen::AlignedBox3d(o.cast<double>());
+  for (const Eigen::Vector3f& corner : corners) gpu.quad.bounds.extend(corner.cast<double>());
+  gpu.normal = surface.step_u.cross(surface.step_v).normalized();
+  gpu.last_u = surface.cells_u - 1;
+  gpu.last_v = surface.cells_v - 1;
+  std::vector<float> texels;  // sRGB-encoded albedo, RGBA
+  texels.reserve(surface.colors.size() * 4);
+  for (const Eigen::Vector3f& color : surface.colors) {
+    for (int c = 0; c < 3; ++c)
+      texels.push_back(std::pow(std::clamp(color[c], 0.0f, 1.0f), 1.0f / 2.2f));
+    texels.push_back(1.0f);
+  }
+  glBindTexture(GL_TEXTURE_2D, gpu.texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, surface.cells_u, surface.cells_v, 0, GL_RGBA, GL_FLOAT,
+               texels.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+}
+
+void OsMesaRenderer::drawTiles(const GpuTiles& tiles, const Eigen::Matrix4d& optical_from_world) {
+  // The objects' shading for the surface's normal, sRGB-encoded (see kTiledFragmentShader).
+  const SceneLighting& light = lighting_;
+  const Eigen::Vector3f normal =
+      light.headlight
+          ? (optical_from_world.topLeftCorner<3, 3>().cast<float>() * tiles.normal).eval()
+          : tiles.normal;
+  const Eigen::Vector3f to_light =
+      light.headlight ? kHeadlightToLight : light.to_light_world.normalized().cast<float>();
+  const float facing = std::max(normal.dot(to_light), 0.0f);
+  const Eigen::Vector3f shade =
+      Eigen::Vector3f::Constant(light.ambient) + light.diffuse * facing * light.color;
+  glUniform3f(gain_location_, std::pow(std::max(shade.x(), 0.0f), 1.0f / 2.2f),
+              std::pow(std::max(shade.y(), 0.0f), 1.0f / 2.2f),
+              std::pow(std::max(shade.z(), 0.0f), 1.0f / 2.2f));
+  glUniform2i(last_cell_location_, tiles.last_u, tiles.last_v);
+  glBindTexture(GL_TEXTURE_2D, tiles.texture);
+  drawMesh(tiled_program_, tiles.quad, optical_from_world);
 }
 
 void OsMesaRenderer::setLighting(const Program& program,
@@ -639,16 +766,19 @@ void OsMesaRenderer::renderBackground(const Eigen::Matrix4d& optical_from_world)
   glClearBufferfv(GL_COLOR, 0, kBlack);
   glClearBufferfv(GL_COLOR, 1, kNothing);
   glClearBufferfv(GL_DEPTH, 0, &kFarthest);
-  // Clutter first, then walls before the floor: what lies behind them fails the depth test
-  // before it is shaded. Clutter out of view is not drawn at all.
+  // Clutter first, then the tiled surfaces in their order (a room gives walls before the floor),
+  // then other one-sided meshes: what lies behind drawn surfaces fails the depth test before it
+  // is shaded. Clutter out of view is not drawn at all.
   for (int i = num_one_sided_; i < num_background_; ++i) {
     if (inView(background_meshes_[i], optical_from_world)) {
       drawMesh(background_program_, background_meshes_[i], optical_from_world);
     }
   }
-  const Program& one_sided = prelit_ ? prelit_program_ : background_program_;
-  if (prelit_) glUseProgram(prelit_program_.id);
   glEnable(GL_CULL_FACE);
+  glUseProgram(tiled_program_.id);
+  for (int i = 0; i < num_tiled_; ++i) drawTiles(tiled_[i], optical_from_world);
+  const Program& one_sided = prelit_ ? prelit_program_ : background_program_;
+  glUseProgram(one_sided.id);
   for (int i = num_one_sided_ - 1; i >= 0; --i) {
     drawMesh(one_sided, background_meshes_[i], optical_from_world);
   }
@@ -716,7 +846,7 @@ void OsMesaRenderer::render(const Eigen::Isometry3d& world_from_optical, RenderB
   makeCurrent();
   const Eigen::Matrix4d optical_from_world = world_from_optical.inverse(Eigen::Isometry).matrix();
   static constexpr float kInfs[4] = {kInf, kInf, kInf, kInf};
-  if (num_background_ > 0) renderBackground(optical_from_world);
+  if (hasBackground()) renderBackground(optical_from_world);
   setLighting(program_, optical_from_world);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   // Each object only touches the pixels of its bounding box's projection: clear, draw and read
@@ -762,7 +892,7 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
   // Per-pixel work stays inside the footprints of this render and the last one: the rest of every
   // image already is background. A room covers every pixel of colour and depth: it is read back
   // whole, and the objects are merged into it.
-  if (num_background_ > 0) {
+  if (hasBackground()) {
     readBackground(out);
   } else {
     const cv::Rect dirty = (allocated ? image : out.footprint & image) | footprint;
@@ -815,7 +945,7 @@ void OsMesaRenderer::readBack(RenderBuffers& out) {
       }
     }
   }
-  out.footprint = num_background_ > 0 ? image : footprint;
+  out.footprint = hasBackground() ? image : footprint;
   out.target_footprint = footprint;
 }
 
