@@ -18,15 +18,17 @@ bool hasDepth(float z) {
 
 /// Rounds positive depths to a step [m] (none for a step of 0), inline: no libm call per pixel.
 class Quantiser {
+  static constexpr float kMaxSteps = 1e9f;
+
  public:
   explicit Quantiser(double step_m)
       : step_(static_cast<float>(step_m)), inverse_(step_m > 0.0 ? 1.0f / step_ : 0.0f) {}
   float operator()(float z) const {
-    const float steps = z * inverse_;
-    // Half up (= std::round for positive z); a step so fine that z / step overflows leaves z.
-    return inverse_ > 0.0f && steps < 1e15f
-               ? static_cast<float>(static_cast<std::int64_t>(steps + 0.5f)) * step_
-               : z;
+    // Half up (= std::round for positive z), branch-free; a step so fine that z / step leaves
+    // the int32 range (or no step, or no depth) leaves z.
+    const float steps = std::min(z * inverse_, kMaxSteps);
+    const float rounded = static_cast<float>(static_cast<std::int32_t>(steps + 0.5f)) * step_;
+    return (steps > 0.0f) & (steps < kMaxSteps) ? rounded : z;
   }
 
  private:
@@ -193,40 +195,58 @@ class RealSenseD435Model : public DepthSensorModel {
   }
 
  private:
+  // Two passes over a row: the random draws (scalar: 64-bit hashes), then the model, branch-free
+  // so that it vectorises.
   void measureRow(const float* z, const std::uint8_t* band, const std::uint8_t* hidden,
                   const float* cos_incidence, const std::uint8_t* colour, const CounterNoise& noise,
-                  std::uint64_t first, int width, float* out) const {
+                  std::uint64_t first, int width, float* out) {
+    normal_.resize(width);
+    draw_.resize(width);
+    // Rec. 709 luminance x 10000 against the threshold, in integers; a dark pixel's dropout draw
+    // is compared with the larger probability, shown here by lowering the draw.
+    const int dark_below = static_cast<int>(std::ceil(p_.dark_luminance * 255.0 * 10000.0));
+    const float dark = static_cast<float>(p_.dark_dropout_probability);
+    for (int u = 0; u < width; ++u) {
+      const std::uint64_t bits = noise.bits(first + u);
+      normal_[u] = byteSumNormal(static_cast<std::uint32_t>(bits));
+      const bool is_dark =
+          colour &&
+          2126 * colour[3 * u] + 7152 * colour[3 * u + 1] + 722 * colour[3 * u + 2] < dark_below;
+      // Dropped if draw < p for the largest p that applies: a dark pixel is dropped anyway when
+      // draw < dark, so its draw can be replaced by 0 there (and kept above).
+      const float draw = uniform24(bits);
+      draw_[u] = is_dark && draw < dark ? -1.0f : draw;
+    }
     const float cos_grazing = static_cast<float>(std::cos(p_.grazing_angle_rad));
     const float min_range = static_cast<float>(p_.min_range_m);
     const float max_range = static_cast<float>(p_.max_range_m);
     const float hole = static_cast<float>(p_.hole_rate);
     const float edge = std::max(hole, static_cast<float>(p_.edge_dropout_probability));
     const float grazing = static_cast<float>(p_.grazing_dropout_probability);
-    const float dark = static_cast<float>(p_.dark_dropout_probability);
-    // Rec. 709 luminance x 10000 against the threshold, in integers.
-    const int dark_below = static_cast<int>(std::ceil(p_.dark_luminance * 255.0 * 10000.0));
     const float f_b = static_cast<float>(p_.focal_length_px * p_.baseline_m);
     const float sigma = static_cast<float>(p_.disparity_sigma_px);
+    const float* normal = normal_.data();
+    const float* draw = draw_.data();
     for (int u = 0; u < width; ++u) {
-      out[u] = kNaN;
-      if (!hasDepth(z[u]) || hidden[u] || z[u] < min_range || z[u] > max_range) continue;
-      float dropout = band[u] ? edge : hole;
-      if (cos_incidence[u] < cos_grazing) dropout = std::max(dropout, grazing);
-      if (colour &&
-          2126 * colour[3 * u] + 7152 * colour[3 * u + 1] + 722 * colour[3 * u + 2] < dark_below) {
-        dropout = std::max(dropout, dark);
-      }
-      const std::uint64_t bits = noise.bits(first + u);
-      if (uniform24(bits) < dropout) continue;
+      // No reading outside the range (false for NaN), where the right imager is blind, or where
+      // matching fails.
+      const bool in_range =
+          hasDepth(z[u]) & (z[u] >= min_range) & (z[u] <= max_range) & (hidden[u] == 0);
+      const float edge_or_hole = band[u] ? edge : hole;
+      const float dropout =
+          cos_incidence[u] < cos_grazing ? std::max(edge_or_hole, grazing) : edge_or_hole;
       // Depth from a disparity (in the sensor's pixels) with noise: z = f B / (d + e).
-      const float disparity = f_b / z[u] + sigma * byteSumNormal(static_cast<std::uint32_t>(bits));
-      out[u] = quantised_(f_b / disparity);
+      const float disparity = f_b / z[u] + sigma * normal[u];
+      const float reading = quantised_(f_b / disparity);
+      out[u] = in_range & (draw[u] >= dropout) ? reading : kNaN;
     }
   }
 
   RealSenseD435Parameters p_;
   Quantiser quantised_;
   std::vector<float> columns_;
+  std::vector<float> normal_;  // per pixel of a row: the disparity draw
+  std::vector<float> draw_;    // the dropout draw (-1 where a dark surface drops it)
   cv::Mat scratch_;
   cv::Mat edge_band_;
   cv::Mat hidden_;
