@@ -14,10 +14,11 @@ namespace {
 /// Separates the sensor's random stream from the scene's, which reset() seeds with the same seed.
 constexpr std::uint64_t kSensorStream = 0x5e4503c0ffee1234ULL;
 
-/// kNoiseLevels equiprobable values of the standard normal: the quantiles at (k + 1/2) / n, scaled
-/// to unit variance (the truncated tails would otherwise lose about 1 %).
-std::vector<float> normalLevels(int n) {
-  std::vector<double> levels(n);
+/// n equiprobable values of the standard normal: the quantiles at (k + 1/2) / n, scaled to unit
+/// variance.
+template <int n>
+std::array<float, n> normalLevels() {
+  std::array<double, n> levels;
   double sum_sq = 0.0;
   for (int k = 0; k < n; ++k) {
     const double p = (k + 0.5) / n;
@@ -29,7 +30,7 @@ std::vector<float> normalLevels(int n) {
     levels[k] = 0.5 * (lo + hi);
     sum_sq += levels[k] * levels[k];
   }
-  std::vector<float> scaled(n);
+  std::array<float, n> scaled;
   for (int k = 0; k < n; ++k) scaled[k] = static_cast<float>(levels[k] / std::sqrt(sum_sq / n));
   return scaled;
 }
@@ -41,6 +42,11 @@ SensorParameters parametersFor(const SensorOptions& options) {
 }
 
 }  // namespace
+
+const std::array<float, 256>& standardNormalLevels() {
+  static const std::array<float, 256> levels = normalLevels<256>();
+  return levels;
+}
 
 void SensorOptions::validate() const {
   const std::vector<std::string>& names = depthSensorNames();
@@ -68,7 +74,8 @@ CameraSensor::~CameraSensor() = default;
 void CameraSensor::startEpisode(std::uint64_t seed) {
   random_ = RandomSource(seed ^ kSensorStream);
   const RgbEffectParameters& rgb = parameters_.rgb;
-  static const std::vector<float> normal = normalLevels(kNoiseLevels);
+  static_assert(kNoiseLevels == 256, "one random byte per channel");
+  const std::array<float, 256>& normal = standardNormalLevels();
   colour_table_.resize(3 * 256 * kNoiseLevels);
   const double exposure =
       std::exp2(random_.uniform(-rgb.exposure_log2_range, rgb.exposure_log2_range));

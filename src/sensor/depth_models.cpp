@@ -171,10 +171,13 @@ class KinectV1Model : public DepthSensorModel {
 class RealSenseD435Model : public DepthSensorModel {
  public:
   explicit RealSenseD435Model(const RealSenseD435Parameters& p)
-      : p_(p), quantised_(p.quantisation_m) {}
+      : p_(p),
+        quantised_(p.quantisation_m),
+        cos_grazing_(static_cast<float>(std::cos(p.grazing_angle_rad))) {}
   std::string name() const override { return "realsense_d435"; }
 
-  // Random bits of pixel p: counter p (low 32 bits: the disparity draw; top 24: the dropout).
+  // Random bits of pixel (u, v): 32 of counter v * ceil(width / 2) + u / 2, the low half for
+  // even u (the low byte: the disparity draw; the top 24 bits: the dropout draw).
   void measure(const cv::Mat& ideal, const cv::Mat& rgb, const CameraIntrinsics& intrinsics,
                const DepthGeometry& geometry, const CounterNoise& noise,
                cv::Mat& measured) override {
@@ -186,7 +189,7 @@ class RealSenseD435Model : public DepthSensorModel {
     markHiddenFromSecondView(ideal, intrinsics.fx, p_.baseline_m, true, columns_, hidden_);
     const bool read_rgb = !rgb.empty() && rgb.size() == ideal.size();
     for (int v = 0; v < ideal.rows; ++v) {
-      const std::uint64_t first = static_cast<std::uint64_t>(v) * ideal.cols;
+      const std::uint64_t first = static_cast<std::uint64_t>(v) * ((ideal.cols + 1) / 2);
       measureRow(ideal.ptr<float>(v), edge_band_.ptr<std::uint8_t>(v), hidden_.ptr<std::uint8_t>(v),
                  geometry.cos_incidence.ptr<float>(v),
                  read_rgb ? rgb.ptr<std::uint8_t>(v) : nullptr, noise, first, ideal.cols,
@@ -206,18 +209,26 @@ class RealSenseD435Model : public DepthSensorModel {
     // is compared with the larger probability, shown here by lowering the draw.
     const int dark_below = static_cast<int>(std::ceil(p_.dark_luminance * 255.0 * 10000.0));
     const float dark = static_cast<float>(p_.dark_dropout_probability);
-    for (int u = 0; u < width; ++u) {
-      const std::uint64_t bits = noise.bits(first + u);
-      normal_[u] = byteSumNormal(static_cast<std::uint32_t>(bits));
-      const bool is_dark =
-          colour &&
-          2126 * colour[3 * u] + 7152 * colour[3 * u + 1] + 722 * colour[3 * u + 2] < dark_below;
-      // Dropped if draw < p for the largest p that applies: a dark pixel is dropped anyway when
-      // draw < dark, so its draw can be replaced by 0 there (and kept above).
-      const float draw = uniform24(bits);
-      draw_[u] = is_dark && draw < dark ? -1.0f : draw;
+    const std::array<float, 256>& levels = standardNormalLevels();
+    for (int u = 0; u < width; u += 2) {
+      const std::uint64_t bits = noise.bits(first + u / 2);
+      normal_[u] = levels[bits & 0xff];
+      draw_[u] = static_cast<float>((bits >> 8) & 0xffffff) * (1.0f / 16777216.0f);
+      if (u + 1 < width) {
+        normal_[u + 1] = levels[(bits >> 32) & 0xff];
+        draw_[u + 1] = uniform24(bits);
+      }
     }
-    const float cos_grazing = static_cast<float>(std::cos(p_.grazing_angle_rad));
+    if (colour) {
+      // Dropped if draw < p for the largest p that applies: a dark pixel is dropped anyway when
+      // draw < dark, so its draw can be replaced by -1 there (and kept above).
+      for (int u = 0; u < width; ++u) {
+        const bool is_dark =
+            2126 * colour[3 * u] + 7152 * colour[3 * u + 1] + 722 * colour[3 * u + 2] < dark_below;
+        if (is_dark && draw_[u] < dark) draw_[u] = -1.0f;
+      }
+    }
+    const float cos_grazing = cos_grazing_;
     const float min_range = static_cast<float>(p_.min_range_m);
     const float max_range = static_cast<float>(p_.max_range_m);
     const float hole = static_cast<float>(p_.hole_rate);
@@ -244,6 +255,7 @@ class RealSenseD435Model : public DepthSensorModel {
 
   RealSenseD435Parameters p_;
   Quantiser quantised_;
+  float cos_grazing_;
   std::vector<float> columns_;
   std::vector<float> normal_;  // per pixel of a row: the disparity draw
   std::vector<float> draw_;    // the dropout draw (-1 where a dark surface drops it)

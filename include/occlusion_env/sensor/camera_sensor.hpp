@@ -4,6 +4,7 @@
 // once the buffers have their size.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -63,6 +64,11 @@ class CounterNoise {
  private:
   std::uint64_t key_;
 };
+
+/// 256 equiprobable values of the standard normal (its quantiles at (k + 1/2) / 256, scaled to
+/// unit variance, which the cut tails would lower by about 1 %): a normal draw from one random
+/// byte, for per-pixel noise that is rounded to whole levels or millimetres afterwards.
+const std::array<float, 256>& standardNormalLevels();
 
 /// A uniform draw in [0, 1) from the top 24 of 64 bits, as a float (exact).
 inline float uniform24(std::uint64_t bits) {
