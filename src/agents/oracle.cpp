@@ -100,7 +100,7 @@ void OcclusionOracle::clear(const SphericalPose& anchor) {
 std::int64_t OcclusionOracle::occlusionAt(const SphericalPose& pose) {
   ++renders_;
   const RenderBuffers& buffers = environment_.renderAt(pose);
-  return computeOcclusion(buffers.amodal_bits, environment_.numObjects(), buffers.footprint)
+  return computeOcclusion(buffers.amodal_bits, environment_.numObjects(), buffers.target_footprint)
       .total_pixels;
 }
 

@@ -16,6 +16,7 @@
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
+#include "occlusion_env/dataset/scene_writer.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
@@ -108,6 +109,7 @@ struct Worker {
   AnalyticOcclusionGradient gradient;
   OcclusionOracle oracle;
   cv::Mat bgr, depth16, occlusion;
+  double oracle_seconds = 0.0;  // spent in the labels' oracle queries
 };
 
 // The labels of the view `buffers` show at `pose`, before the oracle (which renders elsewhere).
@@ -131,7 +133,10 @@ FrameLabels viewLabels(Worker& worker, const RenderBuffers& buffers, const Spher
 }
 
 void addOracleLabels(Worker& worker, FrameLabels& labels) {
+  const auto start = std::chrono::steady_clock::now();
   const OracleAnswer answer = worker.oracle.query(labels.pose);
+  worker.oracle_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   labels.has_oracle = true;
   labels.oracle_steps = answer.steps;
   if (!answer.path.empty()) {
@@ -220,8 +225,10 @@ nlohmann::json cameraEntry(const Environment& environment,
 
 // Frame k of a scene: the view at its pose through the sensor, in frame order (the sensor's
 // noise follows its episode stream), so an audit replays frames 0..k to see it again.
+// `given_poses`: the frames' poses (SceneWriter); nullptr: the random walk of framePoses().
 void writeScene(Worker& worker, const std::string& dir, int index, std::uint64_t seed,
-                const DatasetOptions& options) {
+                const DatasetOptions& options,
+                const std::vector<SphericalPose>* given_poses = nullptr) {
   Environment& environment = worker.environment;
   const StepResult start = environment.reset(seed);
   const fs::path folder = sceneFolder(dir, index);
@@ -230,8 +237,9 @@ void writeScene(Worker& worker, const std::string& dir, int index, std::uint64_t
   }
   worker.oracle.clear(start.info.pose);
   nlohmann::json scene_camera, scene_gt, scene_gt_info, scene_labels;
-  const std::vector<SphericalPose> poses = framePoses(environment, start.info.pose, seed, options);
-  for (int image = 0; image < options.frames; ++image) {
+  const std::vector<SphericalPose> poses =
+      given_poses ? *given_poses : framePoses(environment, start.info.pose, seed, options);
+  for (int image = 0; image < static_cast<int>(poses.size()); ++image) {
     const SphericalPose& pose = poses[image];
     environment.viewFrom(pose);  // the truth in renderBuffers(), the sensor's in observation()
     const std::string name = idName(image);
@@ -501,6 +509,45 @@ void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, 
 }
 
 }  // namespace
+
+// The writer's pieces for other ways of choosing frames (dataset/scene_writer.hpp).
+struct SceneWriter::Impl {
+  Impl(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)
+      : worker(options, std::move(library)) {}
+  Worker worker;
+};
+
+SceneWriter::SceneWriter(const EnvironmentOptions& options, std::shared_ptr<ObjectLibrary> library)
+    : impl_(std::make_unique<Impl>(options, std::move(library))) {}
+SceneWriter::~SceneWriter() = default;
+Environment& SceneWriter::environment() {
+  return impl_->worker.environment;
+}
+OcclusionOracle& SceneWriter::oracle() {
+  return impl_->worker.oracle;
+}
+double SceneWriter::oracleSeconds() const {
+  return impl_->worker.oracle_seconds;
+}
+
+void SceneWriter::writeScene(const std::string& dir, int index, std::uint64_t seed,
+                             const std::vector<SphericalPose>& poses,
+                             const DatasetOptions& options) {
+  if (poses.empty()) throw InvalidArgumentError("dataset: a scene needs at least one frame");
+  dataset::writeScene(impl_->worker, dir, index, seed, options, &poses);
+}
+
+EnvironmentOptions environmentOptionsFor(const DatasetOptions& options) {
+  return environmentOptionsOf(options.definingJson());
+}
+
+nlohmann::json datasetManifest(const DatasetOptions& options, const ObjectCatalog& catalog) {
+  return manifestFor(options, catalog);
+}
+
+void writeJsonAtomically(const std::string& path, const nlohmann::json& json) {
+  writeJsonFile(path, json);
+}
 
 GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
                                  const ProgressCallback& progress) {

@@ -200,8 +200,8 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       placeScene(candidate, candidate_room.get());
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
-      OcclusionStats occlusion =
-          computeOcclusion(probe_buffers_.amodal_bits, num_objects, probe_buffers_.footprint);
+      OcclusionStats occlusion = computeOcclusion(probe_buffers_.amodal_bits, num_objects,
+                                                  probe_buffers_.target_footprint);
       if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
@@ -304,10 +304,10 @@ void Environment::observeThroughSensor() {
 
 OcclusionStats Environment::countOcclusion(int num_objects) {
   // Silhouettes lie inside the footprint; the mask's last non-zero pixels inside the last one.
-  const cv::Rect region = buffers_.footprint | occlusion_mask_region_;
+  const cv::Rect region = buffers_.target_footprint | occlusion_mask_region_;
   OcclusionStats occlusion =
       computeOcclusion(buffers_.amodal_bits, num_objects, region, &observation_.occlusion_mask);
-  occlusion_mask_region_ = buffers_.footprint;
+  occlusion_mask_region_ = buffers_.target_footprint;
   return occlusion;
 }
 

@@ -54,36 +54,26 @@ Eigen::Vector3f floorColour(RandomSource& random) {
   }
 }
 
-/// Appends a quad a, b, c, d (counter-clockwise seen from the side it faces) in one colour.
-void addQuad(Mesh& mesh, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
-             const Eigen::Vector3f& c, const Eigen::Vector3f& d, const Eigen::Vector3f& colour) {
-  const auto first = static_cast<std::uint32_t>(mesh.positions.size());
-  for (const Eigen::Vector3f* corner : {&a, &b, &c, &d}) {
-    mesh.positions.push_back(*corner);
-    mesh.colors.push_back(colour);
-  }
-  for (const std::uint32_t index : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(first + index);
-}
-
 /// Tiles (per-tile brightness, checker contrast) facing +z at `height`.
-Mesh makeFloor(double height, RandomSource& random) {
+TiledSurface makeFloor(double height, RandomSource& random) {
   const Eigen::Vector3f base = floorColour(random);
   const double tile = std::max(random.uniform(0.25, 1.2), 2.0 * kFloorHalfSizeM / kMaxTilesPerSide);
   const double checker = random.uniform(0.0, 0.25);
   const double jitter = random.uniform(0.0, 0.12);
   const int tiles = static_cast<int>(std::ceil(2.0 * kFloorHalfSizeM / tile));
-  Mesh floor;
-  const float z = static_cast<float>(height);
+  TiledSurface floor;
+  const float corner = static_cast<float>(-kFloorHalfSizeM);
+  floor.origin = Eigen::Vector3f(corner, corner, static_cast<float>(height));
+  floor.step_u = Eigen::Vector3f(static_cast<float>(tile), 0.0f, 0.0f);  // x
+  floor.step_v = Eigen::Vector3f(0.0f, static_cast<float>(tile), 0.0f);  // y: faces +z
+  floor.cells_u = floor.cells_v = tiles;
+  floor.colors.resize(static_cast<std::size_t>(tiles) * tiles);
   for (int i = 0; i < tiles; ++i) {
     for (int j = 0; j < tiles; ++j) {
-      const float x0 = static_cast<float>(-kFloorHalfSizeM + i * tile);
-      const float y0 = static_cast<float>(-kFloorHalfSizeM + j * tile);
-      const float x1 = x0 + static_cast<float>(tile);
-      const float y1 = y0 + static_cast<float>(tile);
       const double shade =
           (((i + j) % 2 == 0) ? 1.0 : 1.0 - checker) * (1.0 + random.uniform(-jitter, jitter));
-      addQuad(floor, {x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z},
-              (base * static_cast<float>(shade)).cwiseMin(1.0f));
+      floor.colors[static_cast<std::size_t>(j) * tiles + i] =
+          (base * static_cast<float>(shade)).cwiseMin(1.0f);
     }
   }
   return floor;
@@ -101,16 +91,17 @@ double reach(const Scene& scene, const Eigen::Vector3d& direction) {
   return farthest;
 }
 
-/// Four walls facing the origin at random angles and distances, painted panels.
-Mesh makeWalls(const Scene& scene, double floor_height, double camera_radius, RandomSource& random,
-               std::vector<Eigen::Vector3d>& normals, std::vector<double>& distances) {
+/// Four walls facing the origin at random angles and distances, painted panels, and a ceiling.
+std::vector<TiledSurface> makeWalls(const Scene& scene, double floor_height, double camera_radius,
+                                    RandomSource& random, std::vector<Eigen::Vector3d>& normals,
+                                    std::vector<double>& distances) {
   const Eigen::Vector3f paint =
       linearFromHsv(random.uniform(0, 360), random.uniform(0.0, 0.3), random.uniform(0.45, 0.95));
   const double height = random.uniform(2.4, 3.5);
   const double panel = random.uniform(0.4, 1.5);
   const double jitter = random.uniform(0.0, 0.06);
   const double rotation = random.uniform(0.0, 2.0 * M_PI);
-  Mesh walls;
+  std::vector<TiledSurface> walls;
   for (int k = 0; k < kNumWalls; ++k) {
     const double angle = rotation + k * 0.5 * M_PI + random.uniform(-0.3, 0.3);
     const Eigen::Vector3d outward(std::cos(angle), std::sin(angle), 0.0);
@@ -121,28 +112,30 @@ Mesh makeWalls(const Scene& scene, double floor_height, double camera_radius, Ra
     distances.push_back(distance);
     const Eigen::Vector3d along(-outward.y(), outward.x(), 0.0);  // left to right seen from inside
     const int panels = static_cast<int>(std::ceil(2.0 * kWallHalfWidthM / panel));
+    // Panels from the left end as seen from the origin, rightwards (-along), floor to top: the
+    // side (-along) x up = -outward faces the origin.
+    TiledSurface wall;
+    const Eigen::Vector3d left_end = distance * outward + kWallHalfWidthM * along;
+    wall.origin = Eigen::Vector3d(left_end.x(), left_end.y(), floor_height).cast<float>();
+    wall.step_u = (-panel * along).cast<float>();
+    wall.step_v = Eigen::Vector3f(0.0f, 0.0f, static_cast<float>(height));
+    wall.cells_u = panels;
+    wall.cells_v = 1;
     for (int p = 0; p < panels; ++p) {
-      const Eigen::Vector3d left =
-          distance * outward + (kWallHalfWidthM - p * panel) * along;  // seen from the origin
-      const Eigen::Vector3d right = left - panel * along;
-      const Eigen::Vector3f bottom_left =
-          Eigen::Vector3d(left.x(), left.y(), floor_height).cast<float>();
-      const Eigen::Vector3f bottom_right =
-          Eigen::Vector3d(right.x(), right.y(), floor_height).cast<float>();
-      const Eigen::Vector3f up(0.0f, 0.0f, static_cast<float>(height));
       const float shade = static_cast<float>(1.0 + random.uniform(-jitter, jitter));
-      // Counter-clockwise seen from the origin side: bottom-left, bottom-right, top-right,
-      // top-left.
-      addQuad(walls, bottom_left, bottom_right, bottom_right + up, bottom_left + up,
-              (paint * shade).cwiseMin(1.0f));
+      wall.colors.push_back((paint * shade).cwiseMin(1.0f));
     }
+    walls.push_back(std::move(wall));
   }
   // A ceiling facing down: seen from below it, not drawn from above.
   const float top = static_cast<float>(floor_height + height);
   const float half = static_cast<float>(kFloorHalfSizeM);
-  const Eigen::Vector3f ceiling = linearFromHsv(0.0, 0.0, random.uniform(0.6, 0.95));
-  addQuad(walls, {-half, -half, top}, {-half, half, top}, {half, half, top}, {half, -half, top},
-          ceiling);
+  TiledSurface ceiling;
+  ceiling.origin = Eigen::Vector3f(-half, -half, top);
+  ceiling.step_u = Eigen::Vector3f(0.0f, 2.0f * half, 0.0f);  // y x x = -z: faces down
+  ceiling.step_v = Eigen::Vector3f(2.0f * half, 0.0f, 0.0f);
+  ceiling.colors = {linearFromHsv(0.0, 0.0, random.uniform(0.6, 0.95))};
+  walls.push_back(std::move(ceiling));
   return walls;
 }
 
@@ -215,8 +208,9 @@ void WorldOptions::validate() const {
 
 SceneBackground Room::background() const {
   SceneBackground background;
-  background.one_sided.push_back({&floor, Eigen::Isometry3d::Identity()});
-  background.one_sided.push_back({&walls, Eigen::Isometry3d::Identity()});
+  // Walls first: the floor beyond them then fails the depth test before it is shaded.
+  background.tiled = walls;
+  background.tiled.push_back(floor);
   for (std::size_t i = 0; i < clutter.size(); ++i) {
     PlacedMesh placed;
     placed.mesh = &clutter[i].model->render;

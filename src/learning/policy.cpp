@@ -27,7 +27,10 @@ const OptionTable<PolicyConfig>& policyConfigTable() {
                    .negatedFlag("--no-rig"))
           .add("unit_mean", &PolicyConfig::unit_mean,
                OptionSpec("scale the mean action to unit length (false: free length, as the "
-                          "paper; doc/PPO.md compares them)"));
+                          "paper; doc/PPO.md compares them)"))
+          .add("learned_std", &PolicyConfig::learned_std,
+               OptionSpec("sigma a trained parameter starting at --std, so that the entropy bonus "
+                          "has a gradient (false: the --std -> --std-end schedule)"));
   return table;
 }
 
@@ -36,7 +39,10 @@ void PolicyConfig::validate() const {
 }
 
 nlohmann::json PolicyConfig::toJson() const {
-  return policyConfigTable().toJson(*this);
+  nlohmann::json json = policyConfigTable().toJson(*this);
+  // Only when set, so that runs and policies from before the option keep their identity.
+  if (!learned_std) json.erase("learned_std");
+  return json;
 }
 
 PolicyConfig PolicyConfig::fromJson(const nlohmann::json& json) {
@@ -59,6 +65,7 @@ PolicyNetworkImpl::PolicyNetworkImpl(const NetworkConfig& backbone, const Policy
       "critic", nn::Sequential(nn::Linear(features + kRigInputs, config_.hidden), nn::Tanh(),
                                nn::Linear(config_.hidden, config_.hidden), nn::Tanh(),
                                nn::Linear(config_.hidden, 1)));
+  if (config_.learned_std) log_std_ = register_parameter("log_std", torch::zeros({2}));
   torch::NoGradGuard no_grad;
   // The rig term starts at zero (the actor is the body alone); small last layers so that a fresh
   // actor starts near the zero mean and the critic near zero (the PPO literature's
@@ -122,9 +129,15 @@ void PolicyNetworkImpl::initialiseFrom(MultiTaskUNet& network, bool actor_from_e
   actor_out->bias.copy_(out->bias.index_select(0, order));
 }
 
+torch::Tensor& PolicyNetworkImpl::logStd() {
+  if (!config_.learned_std) throw std::logic_error("policy: sigma is not learned (learned_std)");
+  return log_std_;
+}
+
 std::vector<torch::Tensor> PolicyNetworkImpl::actorParameters() {
   std::vector<torch::Tensor> parameters = actor_body_->parameters();
   for (auto& p : actor_rig_->parameters()) parameters.push_back(p);
+  if (config_.learned_std) parameters.push_back(log_std_);
   return parameters;
 }
 

@@ -57,7 +57,7 @@ void addPpoOptions(OptionTable<PpoOptions>& table) {
       .add("action_std", &O::action_std,
            OptionSpec("action sigma at the start").above(0).atMost(100).flag("--std"))
       .add("action_std_end", &O::action_std_end,
-           OptionSpec("action sigma at the end (linear in steps)")
+           OptionSpec("action sigma at the end (linear in steps; not with --learned-std)")
                .above(0)
                .atMost(100)
                .flag("--std-end"))
@@ -134,15 +134,17 @@ double secondsSince(Clock::time_point start) {
 
 constexpr double kLogSqrtTwoPi = 0.91893853320467274178;
 
-// Sum over the two action dimensions of log N(action; mean, std^2).
+// Sum over the two action dimensions of log N(action; mean, std^2); std [2], one per axis.
 torch::Tensor gaussianLogProbability(const torch::Tensor& action, const torch::Tensor& mean,
-                                     double std) {
+                                     const torch::Tensor& std) {
   const torch::Tensor z = (action - mean) / std;
-  return (-0.5 * z * z - std::log(std) - kLogSqrtTwoPi).sum(1);
+  return (-0.5 * z * z - std.log() - kLogSqrtTwoPi).sum(1);
 }
 
-double gaussianEntropy(double std) {
-  return 2.0 * (0.5 + kLogSqrtTwoPi + std::log(std));
+// The entropy of the two-axis Gaussian with sigmas std [2] (a scalar tensor: with a learned
+// sigma it carries the gradient of the entropy bonus).
+torch::Tensor gaussianEntropy(const torch::Tensor& std) {
+  return (0.5 + kLogSqrtTwoPi + std.log()).sum();
 }
 
 // The state that a checkpoint keeps besides the parameters and optimisers.
@@ -213,6 +215,10 @@ class PpoTrainer {
     input_size_ = pretrained.network->config().input_size;
     policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
     policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
+    if (options_.policy.learned_std) {
+      torch::NoGradGuard no_grad;
+      policy_->logStd().fill_(std::log(options_.action_std));  // a checkpoint overrides it
+    }
     policy_->eval();  // BatchNorm keeps the pretrained statistics, fine-tuned or not
     if (!options_.fine_tune) {
       for (auto& p : policy_->backbone()->parameters()) p.set_requires_grad(false);
@@ -251,7 +257,7 @@ class PpoTrainer {
     const auto start = Clock::now();
     const std::int64_t start_steps = progress_.env_steps;
     while (progress_.env_steps < options_.total_steps) {
-      const double std = actionStd();
+      const torch::Tensor std = actionStd();
       ended_.clear();
       environment_seconds_ = inference_seconds_ = 0.0;
       for (int t = 0; t < steps_per_env; ++t) {
@@ -271,7 +277,7 @@ class PpoTrainer {
       update.update = progress_.updates;
       update.env_steps = progress_.env_steps;
       update.episodes = progress_.episodes;
-      update.action_std = std;
+      update.action_std = std.mean().item<double>();
       summariseEpisodes(update);
       update.seconds = secondsSince(start);
       update.steps_per_second = (progress_.env_steps - start_steps) / update.seconds;
@@ -289,9 +295,12 @@ class PpoTrainer {
   }
 
  private:
-  double actionStd() const {
+  // The sigmas [2] this update's rollout samples with: the learned ones, or the schedule's.
+  torch::Tensor actionStd() {
+    if (options_.policy.learned_std) return policy_->logStd().detach().exp();
     const double done = std::min(1.0, double(progress_.env_steps) / double(options_.total_steps));
-    return options_.action_std + (options_.action_std_end - options_.action_std) * done;
+    return torch::full(
+        {2}, options_.action_std + (options_.action_std_end - options_.action_std) * done);
   }
 
   std::uint64_t nextSeed() {
@@ -332,8 +341,8 @@ class PpoTrainer {
 
   // One step of every environment: sample, store, step, bootstrap truncations, reset ended
   // episodes. Returns the features of the next observations.
-  torch::Tensor collectStep(int t, double std, const torch::Tensor& features, Rollout& rollout,
-                            std::vector<VectorRequest>& requests) {
+  torch::Tensor collectStep(int t, const torch::Tensor& std, const torch::Tensor& features,
+                            Rollout& rollout, std::vector<VectorRequest>& requests) {
     torch::Tensor mean, values;
     {
       const auto start = Clock::now();
@@ -346,9 +355,10 @@ class PpoTrainer {
     torch::Tensor actions = torch::empty({count_, 2});
     {
       auto in = mean.accessor<float, 2>();
+      auto sigma = std.accessor<float, 1>();
       auto out = actions.accessor<float, 2>();
       for (int i = 0; i < count_; ++i) {
-        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + float(std) * noise(progress_.random);
+        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(progress_.random);
       }
     }
     const auto rows = torch::indexing::Slice(t * count_, (t + 1) * count_);
@@ -437,7 +447,10 @@ class PpoTrainer {
   // One gradient step of actor, critic (and backbone when fine-tuned) on the rows `index`.
   MinibatchFigures optimiseMinibatch(Rollout& rollout, const torch::Tensor& advantages,
                                      const torch::Tensor& returns, const torch::Tensor& index,
-                                     double std, double entropy) {
+                                     const torch::Tensor& rollout_std) {
+    // A learned sigma is the one being trained (with the entropy bonus's gradient); a scheduled
+    // one stays the rollout's.
+    const torch::Tensor std = options_.policy.learned_std ? policy_->logStd().exp() : rollout_std;
     const torch::Tensor features = options_.fine_tune
                                        ? policy_->features(rollout.inputs.index_select(0, index))
                                        : rollout.features.index_select(0, index);
@@ -451,7 +464,8 @@ class PpoTrainer {
     const torch::Tensor surrogate = torch::min(
         ratio * advantage,
         ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
-    const torch::Tensor policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
+    const torch::Tensor policy_loss =
+        -surrogate.mean() - options_.entropy_coefficient * gaussianEntropy(std);
     const torch::Tensor value_error =
         policy_->value(features, rig) - returns.index_select(0, index);
     const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
@@ -484,7 +498,7 @@ class PpoTrainer {
 
   // PPO's epochs over the rollout in shuffled minibatches (stopped early past 1.5 target_kl).
   PpoUpdate optimise(Rollout& rollout, const torch::Tensor& last_values, int steps_per_env,
-                     double std) {
+                     const torch::Tensor& std) {
     const int rows = steps_per_env * count_;
     torch::Tensor advantages = advantagesOf(rollout, last_values, steps_per_env);
     const torch::Tensor returns = advantages + rollout.values;
@@ -493,7 +507,7 @@ class PpoTrainer {
     }
 
     PpoUpdate update;
-    update.entropy = gaussianEntropy(std);
+    update.entropy = gaussianEntropy(std).item<double>();  // at the rollout's sigma
     std::vector<int64_t> order(rows);
     std::iota(order.begin(), order.end(), 0);
     const int minibatch = std::min(options_.minibatch_size, rows);
@@ -507,7 +521,7 @@ class PpoTrainer {
         const torch::Tensor index =
             torch::from_blob(order.data() + first, {minibatch}, torch::kLong).clone();
         const MinibatchFigures figures =
-            optimiseMinibatch(rollout, advantages, returns, index, std, update.entropy);
+            optimiseMinibatch(rollout, advantages, returns, index, std);
         epoch_kl += figures.kl;
         ++epoch_batches;
         sum.kl += figures.kl;

@@ -5,7 +5,7 @@
 namespace occlusion_env {
 
 void Renderer::setBackground(const SceneBackground& background) {
-  if (!background.one_sided.empty() || !background.two_sided.empty() ||
+  if (!background.one_sided.empty() || !background.two_sided.empty() || !background.tiled.empty() ||
       !background.lighting.headlight) {
     throw InvalidArgumentError("renderer " + name() + " draws no background and no other light");
   }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "occlusion_env/common/errors.hpp"
@@ -44,6 +45,96 @@ cv::Rect centralSquare(int width, int height) {
   return {(width - side) / 2, (height - side) / 2, side, side};
 }
 
+// `text` without trailing blanks.
+std::string trimmed(std::string text) {
+  text.erase(text.find_last_not_of(" \n") + 1);
+  return text;
+}
+
+std::string percent(double fraction) {
+  std::ostringstream text;
+  text.precision(3);
+  text << fraction * 100.0 << " %";
+  return text.str();
+}
+
+// InvalidArgumentError unless the bridge converts these encodings.
+void checkEncodings(const sensor_msgs::Image& rgb, const sensor_msgs::Image& depth) {
+  namespace enc = sensor_msgs::image_encodings;
+  if (rgb.encoding != enc::RGB8 && rgb.encoding != enc::BGR8) {
+    throw InvalidArgumentError("colour image encoding " + occlusion_env::quoted(rgb.encoding) +
+                               " is not supported: give rgb8 or bgr8");
+  }
+  if (depth.encoding != enc::TYPE_16UC1 && depth.encoding != enc::MONO16 &&
+      depth.encoding != enc::TYPE_32FC1) {
+    throw InvalidArgumentError("depth image encoding " + occlusion_env::quoted(depth.encoding) +
+                               " is not supported: give 16UC1 (or mono16) in millimetres or 32FC1 "
+                               "in metres (REP 118), registered to the colour image");
+  }
+  if (depth.is_bigendian) {
+    throw InvalidArgumentError("big-endian depth images are not supported: give little-endian");
+  }
+}
+
+// InvalidArgumentError naming what does not fit unless `info` (from `topic`) describes the
+// width x height images it came with: their size, finite positive focal lengths and the
+// principal point inside.
+void checkCameraInfo(const sensor_msgs::CameraInfo& info, int width, int height,
+                     const std::string& topic) {
+  const double fx = info.K[0], fy = info.K[4], cx = info.K[2], cy = info.K[5];
+  std::ostringstream problem;
+  if (info.width != static_cast<std::uint32_t>(width) ||
+      info.height != static_cast<std::uint32_t>(height)) {
+    problem << "describes " << info.width << " x " << info.height << " images, the images are "
+            << width << " x " << height << " (a calibration of another resolution?)";
+  } else if (!(std::isfinite(fx) && fx > 0.0 && std::isfinite(fy) && fy > 0.0)) {
+    problem << "has the focal lengths fx " << fx << ", fy " << fy
+            << " px in K: both must be finite and positive (an uncalibrated camera?)";
+  } else if (!(cx >= 0.0 && cx <= width && cy >= 0.0 && cy <= height)) {
+    problem << "puts the principal point at (" << cx << ", " << cy << ") px, outside the " << width
+            << " x " << height << " image";
+  } else {
+    return;
+  }
+  throw InvalidArgumentError("camera_info on " + topic + " " + problem.str() +
+                             ": give the colour camera's camera_info, calibrated at the images' "
+                             "resolution");
+}
+
+// The fraction of `depth_m` (NaN = no reading) within [near_m, far_m], the working range;
+// EnvironmentUnavailableError when it is below `min_fraction` or nothing is in range.
+double checkDepthCoverage(const cv::Mat& depth_m, double near_m, double far_m,
+                          double min_fraction) {
+  std::int64_t readings = 0, in_range = 0;
+  float nearest_m = std::numeric_limits<float>::infinity(), farthest_m = 0.0f;
+  for (int row = 0; row < depth_m.rows; ++row) {
+    const float* depth = depth_m.ptr<float>(row);
+    for (int col = 0; col < depth_m.cols; ++col) {
+      if (!(depth[col] > 0.0f)) continue;  // NaN: no reading
+      ++readings;
+      in_range += depth[col] >= near_m && depth[col] <= far_m;
+      nearest_m = std::min(nearest_m, depth[col]);
+      farthest_m = std::max(farthest_m, depth[col]);
+    }
+  }
+  const double fraction = static_cast<double>(in_range) / std::max<double>(1.0, depth_m.total());
+  if (in_range > 0 && fraction >= min_fraction) return fraction;
+  std::ostringstream text;
+  if (readings == 0) {
+    text << "no valid depth in the view (all NaN or 0: a covered lens, a camera closer than its "
+            "minimum range, a black or reflective scene)";
+  } else {
+    text << "only " << percent(fraction) << " of the view has depth within the working range ["
+         << near_m << ", " << far_m << "] m; its readings lie in [" << nearest_m << ", "
+         << farthest_m << "] m (depth in another unit than its encoding says, or a camera that "
+         << "does not look at the scene?)";
+  }
+  text << "; a view is used when at least " << percent(min_fraction)
+       << " of it has depth in the working range (~min_valid_depth_fraction, ~radius / "
+          "~working_range_factor to ~radius * ~working_range_factor)";
+  throw EnvironmentUnavailableError(text.str());
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -73,20 +164,22 @@ const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
                           "action as given, clipped to length step_size"))
           .add("max_steps", &Options::max_steps,
                OptionSpec("steps before an episode is truncated").atLeast(1))
-          .add("position_tolerance", &Options::position_tolerance_m,
-               OptionSpec("the camera has arrived when tf shows it this close to the goal ...")
-                   .unit("m")
-                   .above(0))
-          .add("angle_tolerance", &Options::angle_tolerance_rad,
-               OptionSpec("... and this close in orientation").unit("rad").above(0))
+          .add("arrival_tolerance", &Options::arrival_tolerance_steps,
+               OptionSpec("the camera has arrived when tf shows it within this fraction of a step "
+                          "of the goal: arrival_tolerance * radius * step_size in position, "
+                          "arrival_tolerance * step_size in orientation")
+                   .unit("steps")
+                   .above(0)
+                   .atMost(0.5))
           .add("arrival_timeout", &Options::arrival_timeout_s,
                OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
-          .add(
-              "frame_timeout", &Options::frame_timeout_s,
-              OptionSpec("no frame this long after arrival fails (UNAVAILABLE)").unit("s").above(0))
+          .add("frame_timeout", &Options::frame_timeout_s,
+               OptionSpec("no frame this long after arrival + settle_time fails (UNAVAILABLE)")
+                   .unit("s")
+                   .above(0))
           .add("settle_time", &Options::settle_time_s,
-               OptionSpec("frames stamped less than this after arrival are not used (motion "
-                          "blur, a robot that rings after it stops)")
+               OptionSpec("wait after arrival: frames stamped less than this after it are not "
+                          "used (motion blur, a robot that rings after it stops)")
                    .unit("s")
                    .atLeast(0))
           .add("sync_slop", &Options::sync_slop_s,
@@ -99,6 +192,14 @@ const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
           .add("square_crop", &Options::square_crop,
                OptionSpec("agents get the central square of the images (as trained); "
                           "camera_info's principal point is moved to match"))
+          .add("min_valid_depth_fraction", &Options::min_valid_depth_fraction,
+               OptionSpec("a view with depth within the working range on less of its pixels is "
+                          "not used (UNAVAILABLE): a covered lens, a camera too close, depth in "
+                          "another unit")
+                   .above(0)
+                   .atMost(1))
+          .add("working_range_factor", &Options::working_range_factor,
+               OptionSpec("depth readings count within [radius / this, radius * this]").atLeast(1))
           .add("scene_service", &Options::scene_service,
                OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
                           "scene at every reset"))
@@ -128,6 +229,11 @@ void CameraBridgeOptions::validate() const {
     throw ParameterError(std::string("camera bridge: ") + error.what());
   }
   if (sphere_frame.empty()) throw ParameterError("camera bridge: sphere_frame must not be empty");
+}
+
+ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options) {
+  return {options.arrival_tolerance_steps * options.radius_m * options.step_size_rad,
+          options.arrival_tolerance_steps * options.step_size_rad};
 }
 
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
@@ -199,10 +305,13 @@ void CameraBridge::onFrame(const sensor_msgs::ImageConstPtr& rgb,
 }
 
 CameraBridge::Frame CameraBridge::waitForFrame(const ros::Time& after) {
+  // Until `after` (arrival + settle_time, in the future while the robot settles), then at most
+  // frame_timeout.
+  const double wait_s =
+      options_.frame_timeout_s + std::max(0.0, (after - ros::Time::now()).toSec());
   std::unique_lock<std::mutex> lock(frame_mutex_);
   const auto is_new = [&] { return latest_frame_.rgb && latest_frame_.rgb->header.stamp >= after; };
-  const bool arrived = frame_arrived_.wait_for(
-      lock, std::chrono::duration<double>(options_.frame_timeout_s), is_new);
+  const bool arrived = frame_arrived_.wait_for(lock, std::chrono::duration<double>(wait_s), is_new);
   if (!arrived) {
     std::ostringstream message;
     message << "no synchronised RGB-D frame (" << rgb_subscriber_.getTopic() << ", "
@@ -229,25 +338,33 @@ std::string CameraBridge::opticalFrame() {
   return latest_frame_.rgb->header.frame_id;
 }
 
-Eigen::Isometry3d CameraBridge::cameraPose(const ros::Time& stamp, ros::Time* transform_stamp,
-                                           double wait_s) {
+Eigen::Isometry3d CameraBridge::cameraPose(const std::string& optical_frame, const ros::Time& stamp,
+                                           ros::Time* transform_stamp, double wait_s) {
   geometry_msgs::TransformStamped transform;
   try {
     transform =
-        tf_.lookupTransform(options_.sphere_frame, opticalFrame(), stamp, ros::Duration(wait_s));
+        tf_.lookupTransform(options_.sphere_frame, optical_frame, stamp, ros::Duration(wait_s));
   } catch (const tf2::TransformException& error) {
-    throw EnvironmentUnavailableError("no transform from " + options_.sphere_frame +
-                                      " to the camera's optical frame: " + error.what());
+    const bool known = tf_._frameExists(optical_frame);
+    throw EnvironmentUnavailableError(
+        "no transform from the sphere frame " + occlusion_env::quoted(options_.sphere_frame) +
+        " to the camera's optical frame " + occlusion_env::quoted(optical_frame) +
+        (options_.optical_frame.empty() ? " (the images' frame_id)" : " (~optical_frame)") +
+        (known ? "" : ", a frame tf has not heard of") + ": " + trimmed(error.what()) +
+        "; publish tf for it (the robot's description, a static transform) or set ~optical_frame");
   }
   if (transform_stamp != nullptr) *transform_stamp = transform.header.stamp;
   return tf2::transformToEigen(transform);
 }
 
-Eigen::Isometry3d CameraBridge::poseAt(const ros::Time& stamp) {
+Eigen::Isometry3d CameraBridge::poseAt(const Frame& frame) {
+  const std::string optical_frame =
+      options_.optical_frame.empty() ? frame.rgb->header.frame_id : options_.optical_frame;
+  const ros::Time& stamp = frame.rgb->header.stamp;
   try {
-    return cameraPose(stamp, nullptr, kTfWait_s);
+    return cameraPose(optical_frame, stamp, nullptr, kTfWait_s);
   } catch (const EnvironmentUnavailableError&) {
-    return cameraPose(ros::Time(0));  // tf has not caught up with the frame: the latest
+    return cameraPose(optical_frame, ros::Time(0));  // tf has not caught up: the latest
   }
 }
 
@@ -259,24 +376,28 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   message.pose = toPose(sphere_from_goal);
   goal_publisher_.publish(message);
 
+  const ArrivalTolerance tolerance = arrivalTolerance(options_);
   const ros::WallTime deadline =
       ros::WallTime::now() + ros::WallDuration(options_.arrival_timeout_s);
+  ros::WallTime lookups_fail_since;  // zero while tf answers
   double distance_m = -1.0, angle_rad = -1.0;
-  std::string lookup_error;
   while (ros::ok()) {
     try {
       ros::Time stamp;
-      const Eigen::Isometry3d pose = cameraPose(ros::Time(0), &stamp);
+      const Eigen::Isometry3d pose = cameraPose(opticalFrame(), ros::Time(0), &stamp);
+      lookups_fail_since = ros::WallTime();
       distance_m = (pose.translation() - sphere_from_goal.translation()).norm();
       angle_rad = Eigen::AngleAxisd(sphere_from_goal.linear().transpose() * pose.linear()).angle();
       // A transform stamped before the goal shows where the camera was, not where it is.
-      if (distance_m <= options_.position_tolerance_m &&
-          angle_rad <= options_.angle_tolerance_rad &&
+      if (distance_m <= tolerance.position_m && angle_rad <= tolerance.angle_rad &&
           (stamp >= message.header.stamp || stamp.isZero())) {
         return stamp.isZero() ? ros::Time::now() : stamp;
       }
-    } catch (const EnvironmentUnavailableError& error) {
-      lookup_error = error.what();
+    } catch (const EnvironmentUnavailableError&) {
+      // The latest transform fails only for a frame tf does not know or cannot connect to the
+      // sphere frame: no wait makes it come, so say so at once (after tf's usual lag).
+      if (lookups_fail_since.isZero()) lookups_fail_since = ros::WallTime::now();
+      if ((ros::WallTime::now() - lookups_fail_since).toSec() > kTfWait_s) throw;
     }
     if (ros::WallTime::now() > deadline) break;
     ros::WallDuration(options_.tf_poll_period_s).sleep();
@@ -285,61 +406,73 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   text << "the camera did not reach the goal (azimuth " << goal.azimuth_rad << " rad, elevation "
        << goal.elevation_rad << " rad) within " << options_.arrival_timeout_s << " s: ";
   if (distance_m >= 0.0) {
-    text << "tf last showed it " << distance_m << " m and " << angle_rad << " rad away (tolerances "
-         << options_.position_tolerance_m << " m, " << options_.angle_tolerance_rad
-         << " rad); is the robot taking goals on " << goal_publisher_.getTopic() << "?";
+    text << "tf last showed it " << distance_m << " m and " << angle_rad << " rad away";
   } else {
-    text << lookup_error;
+    text << "tf has not shown the camera yet";
   }
+  text << " (tolerances " << tolerance.position_m << " m, " << tolerance.angle_rad
+       << " rad: ~arrival_tolerance " << options_.arrival_tolerance_steps
+       << " of a step); is the robot taking goals on " << goal_publisher_.getTopic() << "?";
   throw EnvironmentUnavailableError(text.str());
+}
+
+void CameraBridge::convertFrame(const Frame& frame) {
+  namespace enc = sensor_msgs::image_encodings;
+  const sensor_msgs::Image& rgb_message = *frame.rgb;
+  checkEncodings(rgb_message, *frame.depth);
+  if (rgb_message.width == 0 || rgb_message.height == 0) {
+    throw InvalidArgumentError("the colour image is empty");
+  }
+  try {
+    toMetricDepth(*frame.depth, depth_m_);
+    rgb_ = imageView(rgb_message, rgb_message.encoding, CV_8UC3);
+  } catch (const std::invalid_argument& error) {  // data shorter than width, height and step say
+    throw InvalidArgumentError(std::string("camera image: ") + error.what());
+  }
+  if (depth_m_.cols != rgb_.cols || depth_m_.rows != rgb_.rows) {
+    throw InvalidArgumentError("depth is " + std::to_string(depth_m_.cols) + " x " +
+                               std::to_string(depth_m_.rows) + ", colour " +
+                               std::to_string(rgb_.cols) + " x " + std::to_string(rgb_.rows) +
+                               ": give depth registered to the colour image (e.g. "
+                               "realsense2_camera's aligned_depth_to_color)");
+  }
+  checkCameraInfo(*frame.info, rgb_.cols, rgb_.rows, info_subscriber_.getTopic());
+  region_ = options_.square_crop ? centralSquare(rgb_.cols, rgb_.rows)
+                                 : cv::Rect(0, 0, rgb_.cols, rgb_.rows);
+  // rgb8 is used where it lies (the response's copy is the only one); bgr8 is converted once.
+  rgb_ = rgb_(region_);
+  if (rgb_message.encoding == enc::BGR8) {
+    cv::cvtColor(rgb_, bgr_to_rgb_, cv::COLOR_BGR2RGB);
+    rgb_ = bgr_to_rgb_;
+  }
+  depth_ = depth_m_(region_);
+  valid_depth_fraction_ = checkDepthCoverage(
+      depth_, options_.radius_m / options_.working_range_factor,
+      options_.radius_m * options_.working_range_factor, options_.min_valid_depth_fraction);
 }
 
 std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
                                            CameraObservation& observation) {
-  namespace enc = sensor_msgs::image_encodings;
-  const sensor_msgs::Image& rgb_message = *frame.rgb;
-  if (rgb_message.encoding != enc::RGB8 && rgb_message.encoding != enc::BGR8) {
-    throw InvalidArgumentError("colour image encoding " + rgb_message.encoding +
-                               ", expected rgb8 or bgr8");
-  }
-  toMetricDepth(*frame.depth, depth_m_);
-  if (depth_m_.cols != static_cast<int>(rgb_message.width) ||
-      depth_m_.rows != static_cast<int>(rgb_message.height)) {
-    throw InvalidArgumentError("depth is " + std::to_string(depth_m_.cols) + " x " +
-                               std::to_string(depth_m_.rows) + ", colour " +
-                               std::to_string(rgb_message.width) + " x " +
-                               std::to_string(rgb_message.height) +
-                               ": give depth registered to the colour image (e.g. "
-                               "realsense2_camera's aligned_depth_to_color)");
-  }
-  const cv::Rect region = options_.square_crop ? centralSquare(depth_m_.cols, depth_m_.rows)
-                                               : cv::Rect(0, 0, depth_m_.cols, depth_m_.rows);
-  // rgb8 is used where it lies (the response's copy is the only one); bgr8 is converted once.
-  cv::Mat rgb = imageView(rgb_message, rgb_message.encoding, CV_8UC3)(region);
-  if (rgb_message.encoding == enc::BGR8) {
-    cv::cvtColor(rgb, bgr_to_rgb_, cv::COLOR_BGR2RGB);
-    rgb = bgr_to_rgb_;
-  }
-  const cv::Mat depth = depth_m_(region);
+  convertFrame(frame);
+  const Eigen::Isometry3d sphere_from_optical = poseAt(frame);
 
-  std_msgs::Header header = rgb_message.header;
+  const std_msgs::Header& header = frame.rgb->header;
   observation.header = header;
-  fillImage(rgb, header, observation.rgb);
-  fillImage(depth, header, observation.depth);
+  fillImage(rgb_, header, observation.rgb);
+  fillImage(depth_, header, observation.depth);
   observation.camera_info = *frame.info;
   observation.camera_info.header = header;
   if (options_.square_crop) {
     // The crop moves the principal point; the projection keeps its focal lengths.
-    observation.camera_info.width = region.width;
-    observation.camera_info.height = region.height;
-    observation.camera_info.K[2] -= region.x;
-    observation.camera_info.K[5] -= region.y;
-    observation.camera_info.P[2] -= region.x;
-    observation.camera_info.P[6] -= region.y;
+    observation.camera_info.width = region_.width;
+    observation.camera_info.height = region_.height;
+    observation.camera_info.K[2] -= region_.x;
+    observation.camera_info.K[5] -= region_.y;
+    observation.camera_info.P[2] -= region_.x;
+    observation.camera_info.P[6] -= region_.y;
     observation.camera_info.roi = sensor_msgs::RegionOfInterest();
   }
 
-  const Eigen::Isometry3d sphere_from_optical = poseAt(header.stamp);
   observation.camera_pose.header.stamp = header.stamp;
   observation.camera_pose.header.frame_id = options_.sphere_frame;
   observation.camera_pose.pose = toPose(sphere_from_optical);
@@ -351,7 +484,10 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
   observation.object_ids.clear();
   observation.object_categories.clear();
   observation.occlusion.pairs.clear();
+  return estimateOcclusion(observation);
+}
 
+std::int64_t CameraBridge::estimateOcclusion(CameraObservation& observation) {
   if (!estimator_) {
     observation.occlusion_source = CameraObservation::UNAVAILABLE;
     observation.occlusion.total_pixels = -1;
@@ -360,14 +496,14 @@ std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
     observation.occlusion_mask = sensor_msgs::Image();
     return -1;
   }
-  const std::int64_t estimate = estimator_->estimate(rgb, depth, mask_).occluded_pixels;
+  const std::int64_t estimate = estimator_->estimate(rgb_, depth_, mask_).occluded_pixels;
   observation.occlusion_source = CameraObservation::ESTIMATED;
   // The network predicts where silhouettes overlap, not how many overlap there: the area stands
   // for L as well.
   observation.occlusion.total_pixels = estimate;
   observation.occlusion.occluded_area_pixels = estimate;
   observation.occlusion.union_pixels = -1;
-  fillImage(mask_, header, observation.occlusion_mask);
+  fillImage(mask_, observation.header, observation.occlusion_mask);
   return estimate;
 }
 
@@ -403,7 +539,7 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
       // Where the camera is now (after the scene service, which may have moved it): at a frame
       // from after the request. The angle not asked for stays as it is.
       const Frame current = waitForFrame(start);
-      const SphericalPose now = sphericalPoseOf(poseAt(current.rgb->header.stamp).translation());
+      const SphericalPose now = sphericalPoseOf(poseAt(current).translation());
       const SphericalPose goal = sphere_.normalized(
           {request.set_start_azimuth ? request.start_azimuth : now.azimuth_rad,
            request.set_start_elevation ? request.start_elevation : now.elevation_rad});
@@ -415,7 +551,8 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
     // estimated. Never below 1.
     reward_normalizer_ = std::max<double>(1.0, static_cast<double>(estimate));
     last_estimate_px_ = estimate;
-    clear_views_ = estimator_ && estimate <= options_.occlusion_threshold_px ? 1 : 0;
+    // The start view does not confirm: confirm_views views the agent has moved to must.
+    clear_views_ = 0;
     step_index_ = 0;
     has_episode_ = true;
     episode_over_ = false;
@@ -439,7 +576,8 @@ bool CameraBridge::step(Step::Request& request, Step::Response& response) {
     action.d_elevation_rad = request.action.d_elevation;
     const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
     // From where the camera really is, so that a robot's errors do not add up.
-    const SphericalPose now = sphericalPoseOf(cameraPose(ros::Time(0)).translation());
+    const SphericalPose now =
+        sphericalPoseOf(cameraPose(opticalFrame(), ros::Time(0), nullptr, kTfWait_s).translation());
     const SphericalPose goal = sphere_.moved(now, move.d_azimuth_rad, move.d_elevation_rad);
 
     auto waited = std::chrono::steady_clock::now();
@@ -475,12 +613,19 @@ void CameraBridge::noteStepTiming(double overhead_s, double robot_s, double fram
   overhead_s_.push_back(overhead_s);
   robot_s_.push_back(robot_s);
   frame_s_.push_back(frame_s);
+  valid_depth_fractions_.push_back(valid_depth_fraction_);
   if (overhead_s_.size() < kTimingWindow) return;
-  ROS_INFO_STREAM("camera bridge, median of the last "
-                  << kTimingWindow << " steps: own work " << milliseconds(median(overhead_s_))
-                  << " (goal, pose, conversion" << (estimator_ ? ", estimate" : "")
-                  << "); waiting for the robot " << milliseconds(median(robot_s_))
-                  << ", for the frame after arrival " << milliseconds(median(frame_s_)));
+  ROS_INFO_STREAM(
+      "camera bridge, median of the last "
+      << kTimingWindow << " steps: own work " << milliseconds(median(overhead_s_))
+      << " (goal, pose, conversion" << (estimator_ ? ", estimate" : "")
+      << "); waiting for the robot " << milliseconds(median(robot_s_))
+      << ", for the frame after arrival " << milliseconds(median(frame_s_))
+      << "; depth in the working range on " << percent(median(valid_depth_fractions_))
+      << " of the view (lowest "
+      << percent(*std::min_element(valid_depth_fractions_.begin(), valid_depth_fractions_.end()))
+      << ", ~min_valid_depth_fraction " << percent(options_.min_valid_depth_fraction) << ")");
+  valid_depth_fractions_.clear();
   overhead_s_.clear();
   robot_s_.clear();
   frame_s_.clear();

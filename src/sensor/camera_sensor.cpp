@@ -14,6 +14,27 @@ namespace {
 /// Separates the sensor's random stream from the scene's, which reset() seeds with the same seed.
 constexpr std::uint64_t kSensorStream = 0x5e4503c0ffee1234ULL;
 
+/// n equiprobable values of the standard normal: the quantiles at (k + 1/2) / n, scaled to unit
+/// variance.
+template <int n>
+std::array<float, n> normalLevels() {
+  std::array<double, n> levels;
+  double sum_sq = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double p = (k + 0.5) / n;
+    double lo = -10.0, hi = 10.0;  // Phi(x) = erfc(-x / sqrt 2) / 2, bisected
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      const double mid = 0.5 * (lo + hi);
+      (0.5 * std::erfc(-mid / std::sqrt(2.0)) < p ? lo : hi) = mid;
+    }
+    levels[k] = 0.5 * (lo + hi);
+    sum_sq += levels[k] * levels[k];
+  }
+  std::array<float, n> scaled;
+  for (int k = 0; k < n; ++k) scaled[k] = static_cast<float>(levels[k] / std::sqrt(sum_sq / n));
+  return scaled;
+}
+
 SensorParameters parametersFor(const SensorOptions& options) {
   options.validate();
   return options.parameters_file.empty() ? SensorParameters{}
@@ -21,6 +42,11 @@ SensorParameters parametersFor(const SensorOptions& options) {
 }
 
 }  // namespace
+
+const std::array<float, 256>& standardNormalLevels() {
+  static const std::array<float, 256> levels = normalLevels<256>();
+  return levels;
+}
 
 void SensorOptions::validate() const {
   const std::vector<std::string>& names = depthSensorNames();
@@ -48,6 +74,9 @@ CameraSensor::~CameraSensor() = default;
 void CameraSensor::startEpisode(std::uint64_t seed) {
   random_ = RandomSource(seed ^ kSensorStream);
   const RgbEffectParameters& rgb = parameters_.rgb;
+  static_assert(kNoiseLevels == 256, "one random byte per channel");
+  const std::array<float, 256>& normal = standardNormalLevels();
+  colour_table_.resize(3 * 256 * kNoiseLevels);
   const double exposure =
       std::exp2(random_.uniform(-rgb.exposure_log2_range, rgb.exposure_log2_range));
   for (int c = 0; c < 3; ++c) {
@@ -55,10 +84,14 @@ void CameraSensor::startEpisode(std::uint64_t seed) {
         exposure * (1.0 + random_.uniform(-rgb.white_balance_range, rgb.white_balance_range));
     for (int value = 0; value < 256; ++value) {
       // The noise grows with the signal (shot noise) above a floor (read noise).
-      const double signal = gain * value;
-      signal_[c][value] = static_cast<float>(signal);
-      noise_sigma_[c][value] =
+      const float signal = static_cast<float>(gain * value);
+      const float sigma =
           static_cast<float>(std::sqrt(rgb.read_noise * rgb.read_noise + rgb.shot_noise * signal));
+      std::uint8_t* out = &colour_table_[(c * 256 + value) * kNoiseLevels];
+      for (int k = 0; k < kNoiseLevels; ++k) {
+        out[k] =
+            static_cast<std::uint8_t>(std::clamp(signal + sigma * normal[k], 0.0f, 255.0f) + 0.5f);
+      }
     }
   }
 }
@@ -73,10 +106,13 @@ void CameraSensor::apply(const cv::Mat& rgb, const cv::Mat& depth,
   if (depth.type() != CV_32FC1 || rgb.type() != CV_8UC3 || rgb.size() != depth.size()) {
     throw InvalidArgumentError("the camera sensor takes rgb8 and 32FC1 images of one size");
   }
+  // Two keys per frame, in frame order: the depth model's and the colour noise's.
+  const CounterNoise depth_noise(random_.nextU64());
+  const CounterNoise colour_noise(random_.nextU64());
   geometry_.compute(depth, intrinsics, parameters_.edge);
-  depth_model_->measure(depth, rgb, intrinsics, geometry_, random_, depth_);
+  depth_model_->measure(depth, rgb, intrinsics, geometry_, depth_noise, depth_);
   if (options_.rgb_effects) {
-    applyRgbEffects(rgb);
+    applyRgbEffects(rgb, colour_noise);
   } else {
     rgb.copyTo(rgb_);
   }
@@ -96,10 +132,17 @@ void CameraSensor::blur(const cv::Mat& rgb) {
     for (int v = 0; v < h; ++v) {
       const std::uint8_t* in = source->ptr<std::uint8_t>(v);
       std::uint16_t* out = blur_rows_.ptr<std::uint16_t>(v);
-      for (int i = 0; i < 3 * w; ++i) {
-        const int left = i >= 3 ? i - 3 : i;
-        const int right = i + 3 < 3 * w ? i + 3 : i;
-        out[i] = static_cast<std::uint16_t>(in[left] + 2 * in[i] + in[right]);  // x4
+      // x4; the border pixels count themselves for the missing neighbour. Interior without
+      // index clamping, so that it vectorises.
+      const int n = 3 * w;
+      for (int i = 0; i < std::min(3, n); ++i) {
+        out[i] = static_cast<std::uint16_t>(3 * in[i] + (i + 3 < n ? in[i + 3] : in[i]));
+      }
+      for (int i = 3; i + 3 < n; ++i) {
+        out[i] = static_cast<std::uint16_t>(in[i - 3] + 2 * in[i] + in[i + 3]);
+      }
+      for (int i = std::max(3, n - 3); i < n; ++i) {
+        out[i] = static_cast<std::uint16_t>(in[i - 3] + 3 * in[i]);
       }
     }
     for (int v = 0; v < h; ++v) {
@@ -115,7 +158,7 @@ void CameraSensor::blur(const cv::Mat& rgb) {
   }
 }
 
-void CameraSensor::applyRgbEffects(const cv::Mat& rgb) {
+void CameraSensor::applyRgbEffects(const cv::Mat& rgb, const CounterNoise& noise) {
   const RgbEffectParameters& p = parameters_.rgb;
   const cv::Mat* source = &rgb;
   if (p.blur_sigma_px > 0.0) {
@@ -123,19 +166,25 @@ void CameraSensor::applyRgbEffects(const cv::Mat& rgb) {
     source = &blurred_;
   }
   rgb_.create(rgb.size(), CV_8UC3);
+  // Exposure, white balance and noise from the episode's table: one random byte per channel, six
+  // of each pixel pair's 64 bits (counter = v * pairs per row + u / 2).
+  const std::uint8_t* table = colour_table_.data();
+  constexpr int kChannel = 256 * kNoiseLevels;
+  static_assert(kNoiseLevels == 256, "one random byte per channel");
+  const auto pixel = [table](const std::uint8_t* in, std::uint8_t* out, std::uint64_t bits) {
+    out[0] = table[in[0] * kNoiseLevels + (bits & 0xff)];
+    out[1] = table[kChannel + in[1] * kNoiseLevels + ((bits >> 8) & 0xff)];
+    out[2] = table[2 * kChannel + in[2] * kNoiseLevels + ((bits >> 16) & 0xff)];
+  };
+  const int pairs_per_row = (rgb.cols + 1) / 2;
   for (int v = 0; v < rgb.rows; ++v) {
     const std::uint8_t* in = source->ptr<std::uint8_t>(v);
     std::uint8_t* out = rgb_.ptr<std::uint8_t>(v);
-    for (int i = 0; i < 3 * rgb.cols; i += 3) {
-      // Two draws per random word; exposure, white balance and the noise's sigma from the tables.
-      const std::uint64_t bits = random_.nextU64();
-      const float noise[3] = {byteSumNormal(static_cast<std::uint32_t>(bits)),
-                              byteSumNormal(static_cast<std::uint32_t>(bits >> 32)),
-                              fastStandardNormal(random_)};
-      for (int c = 0; c < 3; ++c) {
-        const float value = signal_[c][in[i + c]] + noise_sigma_[c][in[i + c]] * noise[c];
-        out[i + c] = static_cast<std::uint8_t>(std::clamp(value, 0.0f, 255.0f) + 0.5f);
-      }
+    const std::uint64_t first = static_cast<std::uint64_t>(v) * pairs_per_row;
+    for (int u = 0; u < rgb.cols; u += 2) {
+      const std::uint64_t bits = noise.bits(first + u / 2);
+      pixel(in + 3 * u, out + 3 * u, bits);
+      if (u + 1 < rgb.cols) pixel(in + 3 * u + 3, out + 3 * u + 3, bits >> 24);
     }
   }
   if (p.jpeg_quality > 0) {

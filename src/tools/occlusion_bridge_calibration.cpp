@@ -88,14 +88,15 @@ struct View {
 };
 
 // Where the bridge's rule stops on `path`: the first view after the start whose estimate and the
-// confirm - 1 views before it (the start view included) are at most `threshold`; path.size()
-// when it never does.
+// confirm - 1 views before it (views after steps only, never the start view) are at most
+// `threshold`; path.size() when it never does.
 std::size_t stopOf(const std::vector<View>& path, std::size_t probability, double threshold,
                    int confirm) {
   int run = 0;
-  for (std::size_t t = 0; t < path.size(); ++t) {
+  // The start view neither ends an episode nor confirms one (the bridge's rule): from step 1 on.
+  for (std::size_t t = 1; t < path.size(); ++t) {
     run = static_cast<double>(path[t].estimated_pixels[probability]) <= threshold ? run + 1 : 0;
-    if (run >= confirm && t >= 1) return t;  // only a step ends an episode
+    if (run >= confirm) return t;
   }
   return path.size();
 }

@@ -99,7 +99,12 @@ TEST(RoomTest, SameSeedSameRoomAndFramesTheVoidStaysBlack) {
   first.reset(12);
   second.reset(12);
   EXPECT_EQ(first.room()->floor.colors, second.room()->floor.colors);
-  EXPECT_EQ(first.room()->walls.positions, second.room()->walls.positions);
+  ASSERT_EQ(first.room()->walls.size(), second.room()->walls.size());
+  for (std::size_t k = 0; k < first.room()->walls.size(); ++k) {
+    EXPECT_EQ(first.room()->walls[k].origin, second.room()->walls[k].origin);
+    EXPECT_EQ(first.room()->walls[k].step_u, second.room()->walls[k].step_u);
+    EXPECT_EQ(first.room()->walls[k].colors, second.room()->walls[k].colors);
+  }
   for (int t = 0; t < 3; ++t) {
     EXPECT_TRUE(sameBytes(first.observation().rgb, second.observation().rgb));
     EXPECT_TRUE(sameBytes(first.observation().depth, second.observation().depth));

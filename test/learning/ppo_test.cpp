@@ -156,6 +156,40 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   fs::remove_all(dir);
 }
 
+// The last update's sigma of a short run with entropy coefficient `entropy`.
+double lastSigma(PpoOptions options, double entropy, const fs::path& run) {
+  options.entropy_coefficient = entropy;
+  double sigma = 0.0;
+  PpoCallbacks callbacks;
+  callbacks.on_update = [&sigma](const PpoUpdate& u) { sigma = u.action_std; };
+  trainPpo(options, 2, inProcess(), {}, run.string(), callbacks);
+  return sigma;
+}
+
+TEST(PpoTest, TheEntropyBonusTrainsALearnedSigmaOnly) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo_sigma");
+  PpoOptions options = shortRun(writeBackbone(dir));
+  options.actor_learning_rate = 0.02;  // a few steps show the direction
+  options.action_std = options.action_std_end = 0.6;
+
+  // A fixed schedule: the entropy term has no gradient, sigma is the schedule's.
+  EXPECT_FLOAT_EQ(lastSigma(options, 10.0, dir / "fixed"), 0.6);
+
+  // A learned sigma starts at action_std; a large bonus widens it, beyond a run without one.
+  options.policy.learned_std = true;
+  const double without = lastSigma(options, 0.0, dir / "without");
+  const double with_bonus = lastSigma(options, 10.0, dir / "with");
+  EXPECT_GT(with_bonus, 0.6 * 1.1);
+  EXPECT_GT(with_bonus, without);
+
+  // The policy file keeps it (its manifest names learned_std) and loads as an agent's.
+  LoadedPolicy loaded = loadPolicy((dir / "with" / "policy.pt").string());
+  EXPECT_TRUE(loaded.network->config().learned_std);
+  // The file holds sigma after the last update, which the bonus widened once more.
+  EXPECT_GT(loaded.network->logStd().exp().mean().item<double>(), with_bonus);
+  fs::remove_all(dir);
+}
+
 TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
   torch::manual_seed(5);
   NetworkConfig config;

@@ -351,5 +351,45 @@ TEST(OsMesaRendererTest, ReusedBuffersMatchFreshOnesAsTheFootprintsChange) {
   EXPECT_GT(whole_footprints, 0);
 }
 
+// A tiled surface (SceneBackground::tiled): each cell in its colour, lit like the objects, at the
+// plane's depth; seen from behind it is not drawn; no instance, no silhouette.
+TEST(OsMesaRendererTest, TiledSurfaceShowsItsCellsFromTheFrontOnly) {
+  auto renderer = makeOsMesaRenderer(testIntrinsics());
+  renderer->setScene({});
+  SceneBackground background;
+  TiledSurface wall;  // the plane x = -1, y and z in [-2, 2], facing +x
+  wall.origin = Eigen::Vector3f(-1, -2, -2);
+  wall.step_u = Eigen::Vector3f(0, 2, 0);
+  wall.step_v = Eigen::Vector3f(0, 0, 2);
+  wall.cells_u = wall.cells_v = 2;
+  wall.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5f, 0.5f, 0.5f}};
+  background.tiled.push_back(wall);
+  background.lighting.headlight = false;
+  background.lighting.ambient = 1.0f;
+  background.lighting.diffuse = 0.0f;
+  renderer->setBackground(background);
+  RenderBuffers out;
+  renderer->render(cameraOnPlusX(2.0), out);  // image right = world +y, image down = world -z
+  const int grey = static_cast<int>(std::pow(0.5, 1.0 / 2.2) * 255.0 + 0.5);
+  const struct {
+    int u, v;
+    cv::Vec3b rgb;
+  } cells[] = {{32, 96, {255, 0, 0}},
+               {96, 96, {0, 255, 0}},
+               {32, 32, {0, 0, 255}},
+               {96, 32, cv::Vec3b(grey, grey, grey)}};
+  for (const auto& cell : cells) {
+    const cv::Vec3b rgb = out.rgb.at<cv::Vec3b>(cell.v, cell.u);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[c], cell.rgb[c], 1) << cell.u << "," << cell.v;
+    EXPECT_NEAR(out.depth.at<float>(cell.v, cell.u), 3.0f, kDepthTolerance);
+  }
+  EXPECT_TRUE(std::isnan(out.depth.at<float>(2, 2)));  // beyond the wall's edge
+  EXPECT_EQ(cv::countNonZero(out.instance), 0);
+  EXPECT_EQ(cv::countNonZero(out.amodal_bits), 0);
+  EXPECT_TRUE(out.target_footprint.empty());
+  renderer->render(lookAt(Eigen::Vector3d(-3, 0, 0), Eigen::Vector3d::Zero()), out);
+  EXPECT_EQ(cv::countNonZero(out.depth == out.depth), 0);  // from behind: nothing (NaN)
+}
+
 }  // namespace
 }  // namespace occlusion_env

@@ -198,6 +198,50 @@ TEST(AzureKinectTest, ConcaveCornerReadsFartherThanItIs) {
   EXPECT_LT(std::abs(plane.error_mean), 0.001);
 }
 
+// The colour noise: per channel, sigma^2 = read^2 + shot * signal around the exposed and
+// white-balanced level (doc/SENSORS.md), and independent from pixel to pixel.
+TEST(ColourEffectsTest, NoiseMatchesItsModelAndIsUncorrelated) {
+  const RgbEffectParameters p;
+  for (const int level : {10, 60, 128, 220}) {
+    SensorOptions options;
+    options.depth_sensor = "realsense_d435";
+    CameraSensor camera(options);
+    camera.startEpisode(7);
+    camera.apply(cv::Mat(kSize, kSize, CV_8UC3, cv::Scalar(level, level, level)), wall(2.0f),
+                 kIntrinsics);
+    const cv::Mat& rgb = camera.rgb();
+    for (int c = 0; c < 3; ++c) {
+      double sum = 0.0, sum_sq = 0.0, lag_sum = 0.0;
+      long n = 0, lags = 0;
+      for (int v = 8; v < kSize - 8; ++v) {
+        for (int u = 8; u < kSize - 8; ++u) {
+          const double x = rgb.at<cv::Vec3b>(v, u)[c];
+          sum += x;
+          sum_sq += x * x;
+          ++n;
+        }
+      }
+      const double mean = sum / n;
+      const double sigma = std::sqrt(sum_sq / n - mean * mean);
+      for (int v = 8; v < kSize - 8; ++v) {
+        for (int u = 8; u < kSize - 9; ++u) {
+          lag_sum += (rgb.at<cv::Vec3b>(v, u)[c] - mean) * (rgb.at<cv::Vec3b>(v, u + 1)[c] - mean);
+          ++lags;
+        }
+      }
+      // The gain (exposure x white balance) is drawn per episode: read it off the mean. Rounding
+      // to whole levels adds 1/12 to the variance.
+      const double promised =
+          std::sqrt(p.read_noise * p.read_noise + p.shot_noise * mean + 1.0 / 12.0);
+      const double correlation = lag_sum / lags / (sigma * sigma);
+      std::printf("level %d channel %d: mean %.1f sigma %.3f model %.3f, neighbour corr. %+.3f\n",
+                  level, c, mean, sigma, promised, correlation);
+      EXPECT_NEAR(sigma / promised, 1.0, 0.1) << "level " << level << " channel " << c;
+      EXPECT_LT(std::abs(correlation), 0.05) << "level " << level << " channel " << c;
+    }
+  }
+}
+
 TEST(SensorParametersTest, ShippedFileHoldsTheBuiltInValues) {
   const SensorParameters shipped =
       loadSensorParameters(std::string(OCCLUSION_ENV_SOURCE_DIR) + "/config/sensors.yaml");

@@ -6,8 +6,8 @@ set -euo pipefail
 bin=${1:?usage: tools_help.sh BIN_DIR SOURCE_DIR}
 source_dir=${2:?usage: tools_help.sh BIN_DIR SOURCE_DIR}
 tools=(occlusion_render occlusion_soak occlusion_agents occlusion_lod_report occlusion_oracle
-       occlusion_eval occlusion_dataset occlusion_train occlusion_bridge_calibration
-       occlusion_train_ppo)
+       occlusion_eval occlusion_dataset occlusion_train occlusion_dagger
+       occlusion_bridge_calibration occlusion_train_ppo)
 
 # The flags written after TOOL's name in the docs, scripts and launch files ("-(-)" in launch
 # comments is "--"; a trailing backslash continues a command).

@@ -31,8 +31,10 @@ struct WorldOptions {
 /// hides a target from any camera pose.
 struct Room {
   double floor_height_m = 0.0;  // world z of the floor
-  Mesh floor;                   // world frame, tiles with per-tile colour
-  Mesh walls;  // world frame: four walls at random distances and angles, and a ceiling
+  TiledSurface floor;           // world frame, tiles with per-tile colour, facing up
+  /// World frame: four walls at random distances and angles (painted panels, facing the
+  /// origin), then a ceiling (facing down).
+  std::vector<TiledSurface> walls;
   std::vector<SceneObject> clutter;
   std::vector<double> clutter_yaw_rad;  // per clutter object, about world z
   SceneLighting lighting;

@@ -39,6 +39,10 @@ struct PolicyConfig {
   /// can outgrow its noise instead of improving its direction). false (the paper's, and on our
   /// validation scenes the better one, doc/PPO.md): the mean's length is free.
   bool unit_mean = false;
+  /// Sigma a trained parameter (log sigma per action axis, starting at PPO's action_std), so that
+  /// the entropy bonus has a gradient. false: sigma follows PPO's fixed schedule (action_std to
+  /// action_std_end), under which the entropy term changes only the reported loss.
+  bool learned_std = false;
 
   /// Throws InvalidArgumentError naming the first option out of its declared range.
   void validate() const;
@@ -62,12 +66,15 @@ class PolicyNetworkImpl : public torch::nn::Module {
   torch::Tensor actionMean(const torch::Tensor& features, const torch::Tensor& rig);
   /// State value [B].
   torch::Tensor value(const torch::Tensor& features, const torch::Tensor& rig);
+  /// log sigma [2] of the action, a trained parameter; only with config().learned_std.
+  torch::Tensor& logStd();
 
   /// Copies `network`'s encoder (all of it, for the features) and, when `actor_from_escape`,
   /// its escape head into the actor body.
   void initialiseFrom(MultiTaskUNet& network, bool actor_from_escape);
 
   MultiTaskUNet& backbone() { return backbone_; }
+  /// The actor body's, the rig term's and, with learned_std, log sigma.
   std::vector<torch::Tensor> actorParameters();
   std::vector<torch::Tensor> criticParameters();
   const PolicyConfig& config() const { return config_; }
@@ -80,6 +87,7 @@ class PolicyNetworkImpl : public torch::nn::Module {
   torch::nn::Sequential actor_body_{nullptr};
   torch::nn::Linear actor_rig_{nullptr};
   torch::nn::Sequential critic_{nullptr};
+  torch::Tensor log_std_;  // [2], registered with learned_std only
 };
 TORCH_MODULE(PolicyNetwork);
 

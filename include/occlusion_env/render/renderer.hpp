@@ -42,6 +42,10 @@ struct RenderBuffers {
   /// pixels and those of the new footprint, so do not write into the images (clone them) and do
   /// not render into two RenderBuffers that share pixels.
   cv::Rect footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  /// The union of the objects' footprints in the last render [px], background or not: outside it
+  /// instance, amodal_bits and object_depth hold the background (0, 0, +inf). Equals `footprint`
+  /// for a scene without a background. Unbounded until the first render.
+  cv::Rect target_footprint{0, 0, std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
 };
 
 /// The light of a scene: ambient + diffuse * colour * max(n . l, 0) times each surface's colour.
@@ -55,14 +59,27 @@ struct SceneLighting {
   float diffuse = 0.7f;
 };
 
+/// A flat rectangle of cells u x v, each of one colour (floor tiles, wall panels), in the world
+/// frame: cell (i, j) spans origin + [i, i + 1] step_u + [j, j + 1] step_v. Drawn one-sided, seen
+/// only from the side step_u x step_v points to. A renderer can draw it as one quad whatever the
+/// number of cells.
+struct TiledSurface {
+  Eigen::Vector3f origin = Eigen::Vector3f::Zero();   // [m]
+  Eigen::Vector3f step_u = Eigen::Vector3f::UnitX();  // [m] one cell along u
+  Eigen::Vector3f step_v = Eigen::Vector3f::UnitY();  // [m] one cell along v
+  int cells_u = 1;
+  int cells_v = 1;
+  std::vector<Eigen::Vector3f> colors;  // linear RGB in [0, 1], cell (i, j) at j * cells_u + i
+};
+
 /// What surrounds the target objects (a room): drawn into colour, depth and the visible instance
 /// map (as 0, background), never into the amodal silhouettes or the objects' own depths, so the
 /// occlusion count sees only the targets. Meshes must outlive the renderer's use of them.
 struct SceneBackground {
-  /// Consistently wound surfaces (floor, walls), drawn one-sided: only from the side whose
-  /// triangles run counter-clockwise as seen from it. A camera behind such a surface sees
-  /// through it.
+  /// Consistently wound surfaces, drawn one-sided: only from the side whose triangles run
+  /// counter-clockwise as seen from it. A camera behind such a surface sees through it.
   std::vector<PlacedMesh> one_sided;
+  std::vector<TiledSurface> tiled;    // one-sided too (floor, walls, ceiling)
   std::vector<PlacedMesh> two_sided;  // other meshes (background clutter), seen from both sides
   SceneLighting lighting;
 };

@@ -5,11 +5,14 @@
 // frame to the camera's optical frame. Out: a geometry_msgs/PoseStamped goal for the optical
 // frame on camera_goal, for the robot. A step turns the action into the next pose on the viewing
 // sphere (doc/CONVENTIONS.md), publishes it, waits until tf shows the camera there and for the
-// first frame stamped after that, and answers with that frame. Occlusion cannot be measured on a
-// real camera: with a network model the bridge estimates it (CameraObservation::ESTIMATED) and
-// ends an episode when the estimate falls to ~occlusion_threshold; without one the figures are
-// UNAVAILABLE and only the step limit ends an episode. A timeout answers UNAVAILABLE and leaves
-// the episode as it was, so the next step starts from wherever the camera really is.
+// first frame stamped settle_time after that, and answers with that frame. Occlusion cannot be
+// measured on a real camera: with a network model the bridge estimates it
+// (CameraObservation::ESTIMATED) and ends an episode when the estimate has fallen to
+// ~occlusion_threshold on confirm_views views after the reset's; without one the figures are
+// UNAVAILABLE and only the step limit ends an episode. A timeout, a frame id without tf and a view
+// without enough plausible depth answer UNAVAILABLE; images or camera_info the bridge cannot use
+// answer INVALID_ARGUMENT. Either leaves the episode as it was, so the next step starts from
+// wherever the camera really is.
 #pragma once
 
 #include <geometry_msgs/PoseStamped.h>
@@ -53,14 +56,18 @@ struct CameraBridgeOptions {
   int max_steps = 50;
 
   // Arrival and frames.
-  double position_tolerance_m = 0.01;  // the camera is there when tf is this close ...
-  double angle_tolerance_rad = 0.02;   // ... in position and in orientation
-  double arrival_timeout_s = 10.0;     // how long a move may take
-  double frame_timeout_s = 2.0;        // how long after arrival a frame may take
-  double settle_time_s = 0.0;          // frames stamped before arrival + this are not used
-  double sync_slop_s = 0.02;           // RGB, depth and camera_info within this count as one
-  double tf_poll_period_s = 0.002;     // how often tf is looked at while the robot moves
-  bool square_crop = true;             // agents get the central square, as in training
+  double arrival_tolerance_steps = 0.1;  // the camera is there within this fraction of a step
+  double arrival_timeout_s = 10.0;       // how long a move may take
+  double frame_timeout_s = 2.0;          // how long after arrival + settle_time a frame may take
+  double settle_time_s = 0.0;            // frames stamped before arrival + this are not used
+  double sync_slop_s = 0.02;             // RGB, depth and camera_info within this count as one
+  double tf_poll_period_s = 0.002;       // how often tf is looked at while the robot moves
+  bool square_crop = true;               // agents get the central square, as in training
+
+  // Views the bridge trusts: at least this fraction of the (cropped) view has depth within the
+  // working range [radius / f, radius * f], f = working_range_factor.
+  double min_valid_depth_fraction = 0.02;
+  double working_range_factor = 10.0;
 
   // Episodes and what is estimated.
   std::string scene_service;  // "": none; else a Reset service called at each reset
@@ -80,6 +87,14 @@ struct CameraBridgeOptions {
 
 /// The bridge's parameters (names relative to its private namespace; config/camera_bridge.yaml).
 const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable();
+
+/// How close tf must show the camera to its goal: arrival_tolerance of one step, which moves the
+/// camera radius * step_size [m] along the sphere and turns its view by step_size [rad].
+struct ArrivalTolerance {
+  double position_m = 0.0;
+  double angle_rad = 0.0;
+};
+ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options);
 
 /// Reads every option from the node's private namespace; absent parameters keep their defaults.
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
@@ -110,22 +125,32 @@ class CameraBridge {
 
   void onFrame(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::CameraInfoConstPtr& info);
-  /// The first frame stamped at or after `after`; EnvironmentUnavailableError after the timeout.
+  /// The first frame stamped at or after `after`, waiting until `after` and then up to
+  /// frame_timeout; EnvironmentUnavailableError after that.
   Frame waitForFrame(const ros::Time& after);
+  /// ~optical_frame, else the latest images' frame_id.
   std::string opticalFrame();
-  /// The optical frame in the sphere's frame at `stamp` (zero: the latest), waiting up to
-  /// `wait_s` for tf; EnvironmentUnavailableError when tf cannot say.
-  Eigen::Isometry3d cameraPose(const ros::Time& stamp, ros::Time* transform_stamp = nullptr,
-                               double wait_s = 0.0);
-  /// The optical frame at a frame's `stamp`, waiting briefly for tf to catch up; the latest
+  /// `optical_frame` in the sphere's frame at `stamp` (zero: the latest), waiting up to `wait_s`
+  /// for tf; EnvironmentUnavailableError naming both frames when tf cannot say.
+  Eigen::Isometry3d cameraPose(const std::string& optical_frame, const ros::Time& stamp,
+                               ros::Time* transform_stamp = nullptr, double wait_s = 0.0);
+  /// The optical frame of `frame` at its stamp, waiting briefly for tf to catch up; the latest
   /// pose when it does not.
-  Eigen::Isometry3d poseAt(const ros::Time& stamp);
+  Eigen::Isometry3d poseAt(const Frame& frame);
   /// Publishes the goal and waits until tf shows the camera there; returns the stamp of the
-  /// transform that did. EnvironmentUnavailableError after the timeout.
+  /// transform that did. EnvironmentUnavailableError after the timeout, or at once when tf
+  /// cannot place the optical frame at all.
   ros::Time moveTo(const SphericalPose& goal);
+  /// Converts `frame` into rgb_ and depth_ (the central square when square_crop) after checking
+  /// that it can be used: InvalidArgumentError for encodings, sizes or a camera_info the bridge
+  /// cannot use, EnvironmentUnavailableError for a view without enough plausible depth.
+  void convertFrame(const Frame& frame);
   /// Fills `observation` from `frame` (and estimates its occlusion); returns the estimate [px],
-  /// -1 when there is no model.
+  /// -1 when there is no model. Throws as convertFrame() does.
   std::int64_t fillObservation(const Frame& frame, int step_index, CameraObservation& observation);
+  /// The estimate's fields of `observation` (the mask in mask_); returns the estimate [px], -1
+  /// when there is no model.
+  std::int64_t estimateOcclusion(CameraObservation& observation);
   void noteStepTiming(double overhead_s, double robot_s, double frame_s);
 
   CameraBridgeOptions options_;
@@ -155,14 +180,19 @@ class CameraBridge {
   bool episode_over_ = false;
   int step_index_ = 0;
   std::int64_t last_estimate_px_ = -1;
-  int clear_views_ = 0;             // views in a row whose estimate is at or below the threshold
-  double reward_normalizer_ = 1.0;  // Z: the first view's estimate [px], at least 1
+  int clear_views_ = 0;  // step views in a row whose estimate is at or below the threshold
+  double reward_normalizer_ = 1.0;  // Z: the reset view's estimate [px], at least 1
 
-  // Reused buffers of fillObservation().
+  // Reused buffers of convertFrame() and fillObservation(); rgb_ and depth_ are views of the last
+  // frame (the central square when square_crop).
   cv::Mat bgr_to_rgb_, depth_m_, mask_;
+  cv::Mat rgb_, depth_;
+  cv::Rect region_;
 
-  // Timing of the last steps, summarised in the log every kTimingWindow steps.
-  std::vector<double> overhead_s_, robot_s_, frame_s_;
+  double valid_depth_fraction_ = 0.0;  // of the last converted view, in the working range
+
+  // Timing and valid depth of the last steps, summarised in the log every kTimingWindow steps.
+  std::vector<double> overhead_s_, robot_s_, frame_s_, valid_depth_fractions_;
 };
 
 }  // namespace occlusion_env

@@ -4,6 +4,7 @@
 // once the buffers have their size.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -46,37 +47,53 @@ struct DepthGeometry {
   std::vector<float> ray_y_;  // (v - cy) / fy per row
 };
 
+/// Counter-based random bits for per-pixel noise: splitmix64's output for the state
+/// key + (counter + 1) * golden gamma. A frame draws its key from the episode's stream, so a seed
+/// fixes every frame, and each pixel's bits depend only on the key and the pixel's counter: no
+/// sequential state, any order, a few nanoseconds a draw.
+class CounterNoise {
+ public:
+  explicit CounterNoise(std::uint64_t key) : key_(key) {}
+  std::uint64_t bits(std::uint64_t counter) const {
+    std::uint64_t z = key_ + (counter + 1) * 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+
+ private:
+  std::uint64_t key_;
+};
+
+/// 256 equiprobable values of the standard normal (its quantiles at (k + 1/2) / 256, scaled to
+/// unit variance, which the cut tails would lower by about 1 %): a normal draw from one random
+/// byte, for per-pixel noise that is rounded to whole levels or millimetres afterwards.
+const std::array<float, 256>& standardNormalLevels();
+
+/// A uniform draw in [0, 1) from the top 24 of 64 bits, as a float (exact).
+inline float uniform24(std::uint64_t bits) {
+  return static_cast<float>(bits >> 40) * (1.0f / 16777216.0f);
+}
+
 /// One depth-sensor model. measure() writes the depth this sensor reports for an ideal depth image
-/// (NaN where it reports nothing, REP 118), drawing every random number from `random`.
+/// (NaN where it reports nothing, REP 118), drawing every random number from `noise` (pixel
+/// v * width + u uses the counters documented by each model).
 class DepthSensorModel {
  public:
   virtual ~DepthSensorModel() = default;
   virtual std::string name() const = 0;
   virtual void measure(const cv::Mat& ideal_depth, const cv::Mat& rgb,
                        const CameraIntrinsics& intrinsics, const DepthGeometry& geometry,
-                       RandomSource& random, cv::Mat& measured) = 0;
+                       const CounterNoise& noise, cv::Mat& measured) = 0;
 };
 
 /// Throws InvalidArgumentError for an unknown name.
 std::unique_ptr<DepthSensorModel> makeDepthSensorModel(const std::string& name,
                                                        const SensorParameters& parameters);
 
-/// A standard-normal draw from 4 x 16 random bits (Irwin-Hall; exact mean and variance, tails cut
-/// at 3.46 sigma): a few nanoseconds, for per-pixel noise.
-inline float fastStandardNormal(RandomSource& random) {
-  const std::uint64_t bits = random.nextU64();
-  const std::uint32_t sum = static_cast<std::uint32_t>(bits & 0xffff) +
-                            static_cast<std::uint32_t>((bits >> 16) & 0xffff) +
-                            static_cast<std::uint32_t>((bits >> 32) & 0xffff) +
-                            static_cast<std::uint32_t>(bits >> 48);
-  // Four uniforms on {0..65535}: mean 2 * 65535, variance 4 * (65536^2 - 1) / 12.
-  constexpr float kMean = 2.0f * 65535.0f;
-  constexpr float kInverseSigma = 1.0f / 37837.23f;
-  return (static_cast<float>(sum) - kMean) * kInverseSigma;
-}
-
-/// A coarser standard-normal draw from 32 random bits (4 x 8 bits, Irwin-Hall; exact mean and
-/// variance, 1021 levels): enough for colour noise of a few levels.
+/// A standard-normal draw from 32 random bits (4 x 8 bits, Irwin-Hall; exact mean and variance,
+/// 1021 levels, tails cut at 3.46 sigma): for per-pixel depth noise, whose 1 mm quantisation is
+/// coarser than its levels.
 inline float byteSumNormal(std::uint32_t bits) {
   const std::uint32_t sum =
       (bits & 0xff) + ((bits >> 8) & 0xff) + ((bits >> 16) & 0xff) + (bits >> 24);
@@ -105,13 +122,14 @@ class CameraSensor {
   void startEpisode(std::uint64_t seed);
 
   /// Applies the models to one rendered frame (rgb CV_8UC3, depth CV_32FC1 [m]); the results stay
-  /// in rgb() and depth() until the next call.
+  /// in rgb() and depth() until the next call. Each call draws the frame's noise keys from the
+  /// episode's stream.
   void apply(const cv::Mat& rgb, const cv::Mat& depth, const CameraIntrinsics& intrinsics);
   const cv::Mat& rgb() const { return rgb_; }
   const cv::Mat& depth() const { return depth_; }
 
  private:
-  void applyRgbEffects(const cv::Mat& rgb);
+  void applyRgbEffects(const cv::Mat& rgb, const CounterNoise& noise);
   /// Blur of `rgb` into blurred_: binomial passes of variance rgb.blur_sigma_px^2 (rounded).
   void blur(const cv::Mat& rgb);
 
@@ -120,9 +138,12 @@ class CameraSensor {
   std::unique_ptr<DepthSensorModel> depth_model_;
   RandomSource random_{0};
   DepthGeometry geometry_;
-  float signal_[3][256] = {};       // per channel and input level: exposure x white balance
-  float noise_sigma_[3][256] = {};  // the noise's sigma there [levels]
-  cv::Mat blur_rows_;               // CV_16UC3, the horizontal pass (x4)
+  /// Output level per channel, input level and noise draw: exposure x white balance, plus the
+  /// noise's sigma there times one of kNoiseLevels equiprobable standard-normal values, rounded
+  /// and clamped. Filled by startEpisode().
+  static constexpr int kNoiseLevels = 256;
+  std::vector<std::uint8_t> colour_table_;
+  cv::Mat blur_rows_;  // CV_16UC3, the horizontal pass (x4)
   cv::Mat blurred_;
   cv::Mat rgb_;
   cv::Mat depth_;

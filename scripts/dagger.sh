@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# DAgger (doc/TRAINING.md, "DAgger"): rounds of (1) occlusion_dagger: the current model's
+# predicted-escape agent rolled out on new training scenes, every state it visits labelled by
+# the oracle, and (2) occlusion_train --init-from the current model on the base data plus every
+# DAgger set so far; the round's best model is the next round's agent. Every step resumes:
+# re-run the same command after an interruption (finished rounds are skipped quickly).
+#
+# Usage: scripts/dagger.sh [BASE_DATA] [OUT]
+#   BASE_DATA  default data/train_sweethome3d (the occlusion_dataset command in doc/TRAINING.md);
+#              its validation scenes choose each round's best model
+#   OUT        default runs/dagger: OUT/data_<k> (DAgger sets), OUT/model_<k> (training runs)
+# Environment: MODEL (round 1's agent, default models/multitask_unet64.pt; the network, its
+# variant, size and loss are taken from its manifest), ROUNDS (default 3), SCENES (roll-outs per
+# round, default 1000), FIRST_SEED (default 100000; round k uses FIRST_SEED + (k-1) * SEED_STRIDE
+# on, below the validation seeds 900,000 and away from the base data's), SEED_STRIDE (default
+# 10000), BETA (per step, the probability of executing the oracle's move; default 0), SIZE
+# (image size of the roll-outs and frames [px], default 128 as the base data), EPOCHS (per
+# round, default 5), THREADS (roll-out workers, default 2), EXTRA_DATA (further datasets for
+# every round's training, space-separated).
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+base="${1:-$root/data/train_sweethome3d}"
+out="${2:-$root/runs/dagger}"
+model="${MODEL:-$root/models/multitask_unet64.pt}"
+rounds="${ROUNDS:-3}"
+scenes="${SCENES:-1000}"
+first_seed="${FIRST_SEED:-100000}"
+stride="${SEED_STRIDE:-10000}"
+beta="${BETA:-0}"
+size="${SIZE:-128}"
+epochs="${EPOCHS:-5}"
+threads="${THREADS:-2}"
+extra_data="${EXTRA_DATA:-}"
+bin="$root/.build_ws/devel/lib/occlusion_env"
+for tool in occlusion_dagger occlusion_train; do
+  [[ -x "$bin/$tool" ]] || { echo "dagger.sh: $bin/$tool not built (make build)" >&2; exit 1; }
+done
+[[ -d "$base" ]] || { echo "dagger.sh: no base dataset at $base (doc/TRAINING.md)" >&2; exit 1; }
+(( scenes <= stride )) || { echo "dagger.sh: SCENES ($scenes) > SEED_STRIDE ($stride)" >&2; exit 1; }
+(( first_seed + rounds * stride <= 900000 )) ||
+  { echo "dagger.sh: round seeds would reach the validation seeds (900000)" >&2; exit 1; }
+mkdir -p "$out"
+# From the source tree, with paths relative to it (as the training manifests record them).
+relative() { realpath --relative-to="$root" "$1"; }
+base="$(relative "$base")"
+out="$(relative "$out")"
+model="$(relative "$model")"
+extra=()
+for dir in $extra_data; do extra+=(--data "$(relative "$dir")"); done
+cd "$root"
+
+# The network and loss of a model, as occlusion_train flags (from its manifest).
+network_flags() {
+  python3 - "${1%.pt}.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+n, t = m["network"], m.get("training", {})
+print(f"--variant {n['variant']} --size {n['input_size']} --base {n['base_channels']} "
+      f"--direction-loss {t.get('direction_loss', 'mse')} --bce-weight {t.get('bce_weight', 0)}")
+PY
+}
+
+dagger_data=()
+for ((k = 1; k <= rounds; ++k)); do
+  data_k="$out/data_$k"
+  run_k="$out/model_$k"
+  seed_k=$((first_seed + (k - 1) * stride))
+  echo "== DAgger round $k: agent $model, scenes $scenes from seed $seed_k" >&2
+  "$bin/occlusion_dagger" --model "$model" --out "$data_k" --scenes "$scenes" \
+    --first-seed "$seed_k" --beta "$beta" --size "$size" --threads "$threads" \
+    --source sweethome3d --category chair --category table
+  dagger_data+=(--data "$data_k")
+  # shellcheck disable=SC2046  # the flags are words
+  "$bin/occlusion_train" --data "$base" "${extra[@]}" "${dagger_data[@]}" --out "$run_k" \
+    --init-from "$model" --epochs "$epochs" $(network_flags "$model")
+  model="$run_k/best.pt"
+done
+echo "dagger.sh: round $rounds's model: $model" >&2
