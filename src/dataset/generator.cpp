@@ -394,43 +394,6 @@ void DatasetOptions::validate() const {
 
 namespace {
 
-// Throws InvalidArgumentError unless `dir` is new, empty or a dataset made with `options` (its
-// manifest at `manifest_path`), which is then resumed.
-void requireResumable(const std::string& dir, const fs::path& manifest_path,
-                      const DatasetOptions& options) {
-  if (fs::exists(manifest_path)) {
-    std::ifstream in(manifest_path);
-    nlohmann::json existing;
-    try {
-      existing = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& error) {
-      throw InvalidArgumentError(manifest_path.string() +
-                                 " is not a dataset manifest: " + error.what());
-    }
-    nlohmann::json theirs = existing.value("options", nlohmann::json::object());
-    const nlohmann::json ours = options.definingJson();
-    // An option missing there is one from before it existed: its default then.
-    const nlohmann::json defaults = DatasetOptions().definingJson();
-    for (const auto& [key, value] : defaults.items()) {
-      if (!theirs.contains(key)) theirs[key] = value;
-    }
-    std::string differing;
-    for (const auto& [key, value] : ours.items()) {
-      if (!theirs.contains(key) || theirs.at(key) != value) {
-        differing += (differing.empty() ? "" : ", ") + key + " (" +
-                     (theirs.contains(key) ? theirs.at(key).dump() : "missing") + " there, " +
-                     value.dump() + " here)";
-      }
-    }
-    if (!differing.empty()) {
-      throw InvalidArgumentError("the dataset in " + dir + " was made with other options: " +
-                                 differing + "; use another folder or the same options");
-    }
-  } else if (fs::exists(dir) && !fs::is_empty(dir)) {
-    throw InvalidArgumentError(dir + " exists and holds no dataset: choose an empty or new folder");
-  }
-}
-
 // Checks one stored frame against the worker's environment, which shows the frame's scene at its
 // pose (viewFrom, after the scene's earlier frames), and fresh labels; each difference is a
 // problem of `report`.
@@ -549,6 +512,42 @@ void writeJsonAtomically(const std::string& path, const nlohmann::json& json) {
   writeJsonFile(path, json);
 }
 
+void requireResumable(const std::string& dir, const nlohmann::json& defining,
+                      const nlohmann::json& defaults) {
+  const fs::path manifest_path = fs::path(dir) / kManifestFile;
+  if (!fs::exists(manifest_path)) {
+    if (fs::exists(dir) && !fs::is_empty(dir)) {
+      throw InvalidArgumentError(dir +
+                                 " exists and holds no dataset: choose an empty or new folder");
+    }
+    return;
+  }
+  std::ifstream in(manifest_path);
+  nlohmann::json existing;
+  try {
+    existing = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& error) {
+    throw InvalidArgumentError(manifest_path.string() +
+                               " is not a dataset manifest: " + error.what());
+  }
+  nlohmann::json theirs = existing.value("options", nlohmann::json::object());
+  for (const auto& [key, value] : defaults.items()) {
+    if (!theirs.contains(key)) theirs[key] = value;
+  }
+  std::string differing;
+  for (const auto& [key, value] : defining.items()) {
+    if (!theirs.contains(key) || theirs.at(key) != value) {
+      differing += (differing.empty() ? "" : ", ") + key + " (" +
+                   (theirs.contains(key) ? theirs.at(key).dump() : "missing") + " there, " +
+                   value.dump() + " here)";
+    }
+  }
+  if (!differing.empty()) {
+    throw InvalidArgumentError("the dataset in " + dir + " was made with other options: " +
+                               differing + "; use another folder or the same options");
+  }
+}
+
 GenerationReport generateDataset(const std::string& dir, const DatasetOptions& options,
                                  const ProgressCallback& progress) {
   options.validate();
@@ -559,7 +558,8 @@ GenerationReport generateDataset(const std::string& dir, const DatasetOptions& o
                                                  environment_options.lod_triangle_budget);
   const nlohmann::json manifest = manifestFor(options, library->catalog());
   const fs::path manifest_path = fs::path(dir) / kManifestFile;
-  requireResumable(dir, manifest_path, options);
+  // An option missing from an older manifest is one from before it existed: its default then.
+  requireResumable(dir, options.definingJson(), DatasetOptions().definingJson());
   fs::create_directories(fs::path(dir) / kSplitFolder);
   writeJsonFile(manifest_path, manifest);
 

@@ -44,40 +44,6 @@ std::string fileHash(const std::string& path) {
   return text;
 }
 
-// Throws InvalidArgumentError unless `dir` is new, empty or a DAgger dataset made with
-// `defining` (its manifest's "options").
-void requireResumable(const std::string& dir, const nlohmann::json& defining) {
-  const fs::path manifest_path = fs::path(dir) / dataset::kManifestFile;
-  if (!fs::exists(manifest_path)) {
-    if (fs::exists(dir) && !fs::is_empty(dir)) {
-      throw InvalidArgumentError(dir +
-                                 " exists and holds no dataset: choose an empty or new folder");
-    }
-    return;
-  }
-  std::ifstream in(manifest_path);
-  nlohmann::json existing;
-  try {
-    existing = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& error) {
-    throw InvalidArgumentError(manifest_path.string() +
-                               " is not a dataset manifest: " + error.what());
-  }
-  const nlohmann::json theirs = existing.value("options", nlohmann::json::object());
-  std::string differing;
-  for (const auto& [key, value] : defining.items()) {
-    if (!theirs.contains(key) || theirs.at(key) != value) {
-      differing += (differing.empty() ? "" : ", ") + key + " (" +
-                   (theirs.contains(key) ? theirs.at(key).dump() : "missing") + " there, " +
-                   value.dump() + " here)";
-    }
-  }
-  if (!differing.empty()) {
-    throw InvalidArgumentError("the dataset in " + dir + " was made with other options: " +
-                               differing + "; use another folder or the same options");
-  }
-}
-
 nlohmann::json manifestFor(const DaggerOptions& options, const ObjectCatalog& catalog) {
   nlohmann::json manifest = dataset::datasetManifest(options.datasetOptions(), catalog);
   manifest["tool"] = "occlusion_dagger";
@@ -262,7 +228,7 @@ DaggerReport writeDaggerDataset(const std::string& dir, const DaggerOptions& opt
   run.library = std::make_shared<ObjectLibrary>(makeCatalog(run.environment_options.catalog),
                                                 run.environment_options.lod_triangle_budget);
   const nlohmann::json manifest = manifestFor(options, run.library->catalog());
-  requireResumable(dir, manifest.at("options"));
+  dataset::requireResumable(dir, manifest.at("options"));
   fs::create_directories(fs::path(dir) / dataset::kSplitFolder);
   dataset::writeJsonAtomically((fs::path(dir) / dataset::kManifestFile).string(), manifest);
 

@@ -51,6 +51,12 @@ EnvironmentOptions environmentOptionsFor(const DatasetOptions& options);
 /// scenes with their seeds and train/val split).
 nlohmann::json datasetManifest(const DatasetOptions& options, const ObjectCatalog& catalog);
 
+/// Throws InvalidArgumentError unless `dir` is new, empty or holds a dataset whose manifest's
+/// "options" equal `defining` (naming each that differs); an option missing there counts as its
+/// value in `defaults`. Such a dataset is then resumed.
+void requireResumable(const std::string& dir, const nlohmann::json& defining,
+                      const nlohmann::json& defaults = nlohmann::json::object());
+
 /// Writes `json` to `path` through a temporary name: a file that exists is complete. Throws
 /// std::runtime_error naming the file and the space left when the write fails.
 void writeJsonAtomically(const std::string& path, const nlohmann::json& json);
