@@ -283,8 +283,19 @@ void validatePlaced(const PlacedMesh& placed, const std::string& what) {
   }
 }
 
+// Held while a context is created (with its first GL objects) or destroyed: occlusion_dataset
+// --randomize, whose workers make a new renderer whenever a scene's intrinsics change, died once
+// in libOSMesa (general protection fault) with two threads doing so (2026-11-25). Rendering itself
+// is not serialised.
+// Recursive: a constructor that throws destroys its context under the lock it was made under.
+std::recursive_mutex& contextLifecycleMutex() {
+  static std::recursive_mutex mutex;
+  return mutex;
+}
+
 struct ContextDeleter {
   void operator()(osmesa_context* context) const {
+    const std::lock_guard<std::recursive_mutex> lock(contextLifecycleMutex());
     if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
     OSMesaDestroyContext(context);
   }
@@ -973,6 +984,7 @@ std::unique_ptr<Renderer> makeOsMesaRenderer(const CameraIntrinsics& intrinsics,
           std::to_string(options.rasterizer_threads));
     }
   }
+  const std::lock_guard<std::recursive_mutex> lock(contextLifecycleMutex());
   return std::make_unique<OsMesaRenderer>(intrinsics);
 }
 
