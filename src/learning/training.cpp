@@ -118,9 +118,10 @@ Batch batchOf(const Samples& samples, const torch::Tensor& indices) {
           samples.escape_valid.index_select(0, indices)};
 }
 
-// Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels) and horizontal flips with
-// the label transform (sin, cos) -> (sin, -cos) (dataset/labels.hpp), in place.
-void augment(Batch& batch) {
+// Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels), horizontal flips with
+// the label transform (sin, cos) -> (sin, -cos) (dataset/labels.hpp) and moves (shiftFrames), in
+// place.
+void augment(Batch& batch, double shift) {
   const int64_t n = batch.inputs.size(0);
   torch::Tensor rgb = batch.inputs.slice(1, 0, 3) * 0.25 + 0.5;
   const torch::Tensor brightness = torch::empty({n, 1, 1, 1}).uniform_(0.8, 1.2);
@@ -138,6 +139,7 @@ void augment(Batch& batch) {
   for (torch::Tensor* label : {&batch.gradient, &batch.escape}) {
     *label = torch::stack({label->select(1, 0), label->select(1, 1) * sign}, 1);
   }
+  shiftFrames(batch.inputs, batch.masks, shift);
 }
 
 void setLearningRate(torch::optim::AdamW& optimizer, double rate) {
@@ -274,6 +276,30 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
   return samples;
 }
 
+void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
+  const int64_t n = inputs.size(0), size = inputs.size(3);
+  const auto reach = static_cast<int64_t>(shift * static_cast<double>(size));
+  if (reach == 0) return;
+  const torch::Tensor offsets = torch::randint(-reach, reach + 1, {n, 2}, torch::kLong);
+  torch::Tensor moved_inputs = torch::empty_like(inputs);
+  moved_inputs.slice(1, 0, 3).fill_(-2.0);  // black: (0 - 0.5) / 0.25
+  moved_inputs.slice(1, 3, 4).fill_(2.0);   // no depth, as far: (1 - 0.5) / 0.25
+  torch::Tensor moved_masks = torch::zeros_like(masks);
+  using torch::indexing::Slice;
+  const auto target = [size](int64_t offset) {
+    return Slice(std::max<int64_t>(0, offset), size + std::min<int64_t>(0, offset));
+  };
+  for (int64_t i = 0; i < n; ++i) {
+    const int64_t dx = offsets[i][0].item<int64_t>(), dy = offsets[i][1].item<int64_t>();
+    moved_inputs.index_put_({i, Slice(), target(dy), target(dx)},
+                            inputs.index({i, Slice(), target(-dy), target(-dx)}));
+    moved_masks.index_put_({i, Slice(), target(dy), target(dx)},
+                           masks.index({i, Slice(), target(-dy), target(-dx)}));
+  }
+  inputs = moved_inputs;
+  masks = moved_masks;
+}
+
 const OptionTable<TrainingOptions>& trainingOptionTable() {
   using O = TrainingOptions;
   static const auto table =
@@ -296,6 +322,10 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                    .range(0, 1000))
           .add("augment", &O::augment,
                OptionSpec("colour jitter and horizontal flips").negatedFlag("--no-augment"))
+          .add("shift", &O::shift,
+               OptionSpec("with augment: each frame moved by up to this fraction of its size in "
+                          "x and y, labels kept, the border the void's (0: no moves)")
+                   .range(0, 0.5))
           .add("init_from", &O::init_from,
                OptionSpec("start from this model's weights (a best.pt of an earlier run of the "
                           "same network) instead of random ones: a new cosine schedule and a "
@@ -315,6 +345,7 @@ nlohmann::json TrainingOptions::toJson() const {
   json.erase("threads");  // does not change the result
   // Only when set, so that runs from random weights keep the identity they always had.
   if (init_from.empty()) json.erase("init_from");
+  if (shift == 0.0) json.erase("shift");
   json["network"] = network.toJson();
   return json;
 }
@@ -482,7 +513,7 @@ EpochMetrics trainEpoch(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
     setLearningRate(optimizer, rate);
     Batch batch =
         batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
-    if (options.augment) augment(batch);
+    if (options.augment) augment(batch, options.shift);
     const torch::Tensor loss = batchLoss(network->forward(batch.inputs), batch, options);
     optimizer.zero_grad();
     loss.backward();

@@ -45,7 +45,9 @@ const OptionTable<Arguments>& argumentTable() {
                           "record the first as \"dataset\"")
                    .repeatable())
           .add("out", &Arguments::run_dir,
-               OptionSpec("RUN_DIR: where checkpoints, logs and the best model go"))
+               OptionSpec("RUN_DIR: where checkpoints, logs and the best model go; with --check: "
+                          "the JSON file of the figures (default: beside the model, "
+                          "<model>.check.json)"))
           .add(
               "max_scenes", &Arguments::max_scenes,
               OptionSpec("use only the first N scenes of each dataset; 0 = all").range(0, 10000000))
@@ -98,9 +100,9 @@ int benchInference(const std::string& model_path) {
 }
 
 // Validation's figures of a model on every frame of datasets it was neither trained nor chosen
-// on, printed and written as JSON beside the model (<model>.check.json).
+// on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
-               int threads) {
+               int threads, const std::string& out_path) {
   using namespace occlusion_env;
   learning::setLibtorchThreads(threads);
   learning::LoadedModel model = learning::loadModel(model_path);
@@ -119,7 +121,9 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     result["figures"].erase(unused);
   }
   const std::string out =
-      std::filesystem::path(model_path).replace_extension(".check.json").string();
+      out_path.empty()
+          ? std::filesystem::path(model_path).replace_extension(".check.json").string()
+          : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
@@ -198,7 +202,7 @@ int train(const Arguments& args) {
 int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
   if (!args.check_model.empty()) {
-    return checkModel(args.check_model, args.data_dirs, args.options.threads);
+    return checkModel(args.check_model, args.data_dirs, args.options.threads, args.run_dir);
   }
   return train(args);
 }

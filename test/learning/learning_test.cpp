@@ -345,6 +345,37 @@ std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
   return model;
 }
 
+TEST(LearningTest, ShiftedFramesMoveWithTheirMasks) {
+  torch::manual_seed(3);
+  const int64_t n = 64, size = 16;
+  torch::Tensor inputs = torch::zeros({n, 4, size, size});
+  torch::Tensor masks = torch::zeros({n, 1, size, size});
+  inputs.index_put_({torch::indexing::Slice(), torch::indexing::Slice(), 8, 8}, 1.0);
+  masks.index_put_({torch::indexing::Slice(), 0, 8, 8}, 1.0);
+  shiftFrames(inputs, masks, 0.25);  // up to 4 px
+  int moved = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    // The marked pixel is in the same place in all four channels and in the mask.
+    const torch::Tensor at = masks[i][0].nonzero();
+    ASSERT_EQ(at.size(0), 1);
+    const int64_t y = at[0][0].item<int64_t>(), x = at[0][1].item<int64_t>();
+    EXPECT_LE(std::abs(y - 8), 4);
+    EXPECT_LE(std::abs(x - 8), 4);
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(inputs[i][c][y][x].item<float>(), 1.0f);
+    moved += (x != 8 || y != 8);
+    // The uncovered border is the void: black and far.
+    if (x > 8) {
+      EXPECT_EQ(inputs[i][0][0][0].item<float>(), -2.0f);
+      EXPECT_EQ(inputs[i][3][0][0].item<float>(), 2.0f);
+    }
+  }
+  EXPECT_GT(moved, n / 2);
+  // No shift leaves frames as they are.
+  const torch::Tensor before = inputs.clone();
+  shiftFrames(inputs, masks, 0.0);
+  EXPECT_TRUE(torch::equal(before, inputs));
+}
+
 TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
   // Not square, not 32 px, and views into larger images (as the bridge's central square is).
   const cv::Mat rgb_full(60, 100, CV_8UC3, cv::Scalar(90, 120, 30));

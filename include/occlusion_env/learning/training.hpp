@@ -68,6 +68,10 @@ struct TrainingOptions {
                             // added to the paper's loss (0: the paper's loss)
   std::string direction_loss = "mse";  // mse | smooth_l1 (beta 0.01: the paper's -L1 variant)
   bool augment = true;                 // colour jitter and horizontal flips
+  // With augment: each frame moved by up to this fraction of its size in x and y (uniform, whole
+  // pixels), labels unchanged, the uncovered border the void's (black, no depth): an estimate that
+  // follows the content, not where occlusion usually is in a centred scene. 0: no moves.
+  double shift = 0.0;
   std::uint64_t seed = 1;
   int threads = 0;  // libtorch threads; 0 = the machine's cores
   // A model file (saveModel) of the same network to start from instead of random weights: the
@@ -80,6 +84,11 @@ struct TrainingOptions {
   /// name, the network as "network", init_from only when set; threads (how, not what) left out.
   nlohmann::json toJson() const;
 };
+
+/// Moves each frame of `inputs` (N x 4 x S x S, learning/network_input.hpp) and its mask (N x 1 x S
+/// x S) by whole pixels drawn uniformly from [-shift * S, shift * S] in x and y (torch's generator);
+/// the uncovered border becomes the void's input (black, no depth) and mask 0.
+void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift);
 
 /// The declared options of TrainingOptions but the network (networkConfigTable()), by their
 /// manifest names; the flags are occlusion_train's.
