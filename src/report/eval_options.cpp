@@ -58,7 +58,18 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "other sources)")
                .range(1, eval::kSweepSeedSearch))
       .add("model", &O::model,
-           OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"));
+           OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"))
+      .add("world", &O::world,
+           OptionSpec("with --scenes: around the targets (unset: void, or random with "
+                      "--randomize), drawn from each scene's seed")
+               .choices({"void", "room", "random"}))
+      .add("depth_sensor", &O::depth_sensor,
+           OptionSpec("with --scenes: the camera's depth sensor, what the agents see (unset: "
+                      "ideal, or random with --randomize)")
+               .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
+      .add("randomize", &O::randomize,
+           OptionSpec("with --scenes: draw per scene the camera (radius, field of view, "
+                      "resolution, intrinsics) and, unless given, world and depth sensor"));
 }
 
 void addOutputOptions(OptionTable<EvalOptions>& table) {
@@ -106,6 +117,9 @@ void EvalOptions::resolve() {
         "--all");
   }
   if (!report.empty() && !all) throw InvalidArgumentError("--report needs --all");
+  if ((world || depth_sensor || randomize) && scenes.empty()) {
+    throw InvalidArgumentError("--world, --depth-sensor and --randomize need --scenes");
+  }
   if (source_dir.empty()) source_dir = packageShareDirectory();
   if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";
 }

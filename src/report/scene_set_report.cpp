@@ -7,6 +7,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/summary.hpp"
 
@@ -66,6 +67,7 @@ std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   plan.agents =
       cl.agents.empty() ? agentRegistry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
+  applySceneRandomization(plan.environment, cl.world, cl.depth_sensor, cl.randomize);
   plan.max_steps = cl.max_steps.value_or(50);
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlanToCsv(plan, csv_path);

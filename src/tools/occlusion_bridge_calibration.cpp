@@ -162,7 +162,8 @@ void printHeader(const Arguments& args, const std::vector<std::vector<View>>& vi
   }
   std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
             << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
-            << ", split " << toString(args.options.scene.model_split) << ", " << args.size << " px"
+            << ", split " << toString(args.options.scene.model_split) << ", " << args.size << " px, "
+            << args.options.world.world << ", depth " << args.options.sensor.depth_sensor
             << (args.millimetre_depth ? ", depth in millimetres" : "") << "), " << max_steps
             << " steps at most\n"
             << "estimate: " << args.model << "\n"
@@ -231,7 +232,7 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, argumentTable(), args,
                         {"thresholds", "probabilities", "confirm_views", "millimetre_depth"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
-                        {"catalog_source", "categories", "model_split"});
+                        {"catalog_source", "categories", "model_split", "world", "depth_sensor"});
   tools::addOptionFlags(app, argumentTable(), args, {"size"});
   app.callback([&args] { checkSeeds(args); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });

@@ -36,6 +36,12 @@ struct EvalOptions {
   std::string plot_script;
   std::string report;
   std::string model;
+  // --scenes only: the world, the depth sensor and camera draws of every scene (env/
+  // scene_setup.hpp), from the scene's seed; unset: the void and an ideal sensor, or random with
+  // randomize.
+  std::optional<std::string> world;
+  std::optional<std::string> depth_sensor;
+  bool randomize = false;
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
