@@ -236,6 +236,17 @@ ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options) {
           options.arrival_tolerance_steps * options.step_size_rad};
 }
 
+EpisodeRuleOptions bridgeEpisodeRule(const CameraBridgeOptions& options) {
+  EpisodeRuleOptions rule;
+  rule.reward.normalization = RewardNormalization::kIntersection;
+  rule.reward.success_bonus = options.success_bonus;
+  rule.reward.step_penalty = options.step_penalty;
+  rule.reward.success_threshold_pixels = options.occlusion_threshold_px;
+  rule.max_steps = options.max_steps;
+  rule.confirm_views = options.confirm_views;
+  return rule;
+}
+
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
   CameraBridgeOptions options;
   readParameters(private_node, cameraBridgeOptionTable(), options);
@@ -261,8 +272,8 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
       rgb_subscriber_(node_, names::kRgbImageTopic, 5),
       depth_subscriber_(node_, names::kDepthImageTopic, 5),
       info_subscriber_(node_, names::kRgbCameraInfoTopic, 5),
-      synchronizer_(Sync(10), rgb_subscriber_, depth_subscriber_, info_subscriber_) {
-  options_.validate();
+      synchronizer_(Sync(10), rgb_subscriber_, depth_subscriber_, info_subscriber_),
+      rule_(bridgeEpisodeRule((options.validate(), options))) {
   if (!options_.model_path.empty()) {
     try {
       estimator_ = std::make_unique<learning::OcclusionEstimator>(
@@ -494,7 +505,7 @@ std::int64_t CameraBridge::estimateOcclusion(CameraObservation& observation) {
     observation.occlusion.occluded_area_pixels = -1;
     observation.occlusion.union_pixels = -1;
     observation.occlusion_mask = sensor_msgs::Image();
-    return -1;
+    return kUnknownOcclusion;
   }
   const std::int64_t estimate = estimator_->estimate(rgb_, depth_, mask_).occluded_pixels;
   observation.occlusion_source = CameraObservation::ESTIMATED;
@@ -546,16 +557,9 @@ bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
       start = moveTo(goal);
     }
     const Frame frame = waitForFrame(start + ros::Duration(options_.settle_time_s));
-    const std::int64_t estimate = fillObservation(frame, 0, response.observation);
-    // Z of the paper's reward, intersection-normalised: the union of the silhouettes cannot be
-    // estimated. Never below 1.
-    reward_normalizer_ = std::max<double>(1.0, static_cast<double>(estimate));
-    last_estimate_px_ = estimate;
-    // The start view does not confirm: confirm_views views the agent has moved to must.
-    clear_views_ = 0;
-    step_index_ = 0;
-    has_episode_ = true;
-    episode_over_ = false;
+    OcclusionStats first_view;
+    first_view.total_pixels = fillObservation(frame, 0, response.observation);
+    rule_.start(first_view);  // Z: the estimate of the reset view (intersection), at least 1
   });
   if (response.status.code != Status::OK) {
     ROS_WARN_STREAM("reset refused: " << response.status.message);
@@ -567,10 +571,7 @@ bool CameraBridge::step(Step::Request& request, Step::Response& response) {
   const auto started = std::chrono::steady_clock::now();
   double robot_s = 0.0, frame_s = 0.0;
   response.status = runWithStatus([&] {
-    if (!has_episode_) throw InvalidStateError("step before any reset: call reset first");
-    if (episode_over_) {
-      throw InvalidStateError("the episode has ended (terminated or truncated): call reset");
-    }
+    rule_.requireStep();
     Action action;
     action.d_azimuth_rad = request.action.d_azimuth;
     action.d_elevation_rad = request.action.d_elevation;
@@ -587,19 +588,15 @@ bool CameraBridge::step(Step::Request& request, Step::Response& response) {
     const Frame frame = waitForFrame(arrived + ros::Duration(options_.settle_time_s));
     frame_s = secondsSince(waited);
 
-    const std::int64_t estimate = fillObservation(frame, step_index_ + 1, response.observation);
-    // Only now does the episode change: every error above leaves it as it was.
-    ++step_index_;
-    if (estimator_) {
-      clear_views_ = estimate <= options_.occlusion_threshold_px ? clear_views_ + 1 : 0;
-      response.terminated = clear_views_ >= options_.confirm_views;
-      response.reward = static_cast<double>(last_estimate_px_ - estimate) / reward_normalizer_ +
-                        (response.terminated ? options_.success_bonus : options_.step_penalty);
-    }
-    response.truncated = !response.terminated && step_index_ >= options_.max_steps;
+    const std::int64_t estimate =
+        fillObservation(frame, rule_.stepIndex() + 1, response.observation);
+    // Only now does the episode change: every error above leaves it as it was. Without a model
+    // the estimate is unknown (-1): no reward, and only max_steps ends the episode.
+    const StepVerdict verdict = rule_.step(estimate);
+    response.reward = verdict.reward;
+    response.terminated = verdict.terminated;
+    response.truncated = verdict.truncated;
     response.occlusion_pixels = estimate;
-    last_estimate_px_ = estimate;
-    episode_over_ = response.terminated || response.truncated;
   });
   if (response.status.code != Status::OK) {
     ROS_WARN_STREAM("step refused: " << response.status.message);

@@ -36,6 +36,7 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/env/episode_rule.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 
 namespace occlusion_env {
@@ -95,6 +96,11 @@ struct ArrivalTolerance {
   double angle_rad = 0.0;
 };
 ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options);
+
+/// The bridge's episode rule: the simulator's (env/episode_rule.hpp) on the estimate, normalised
+/// by the reset view's estimate (the union of the silhouettes cannot be estimated), ended by
+/// confirm_views clear step views in a row.
+EpisodeRuleOptions bridgeEpisodeRule(const CameraBridgeOptions& options);
 
 /// Reads every option from the node's private namespace; absent parameters keep their defaults.
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
@@ -175,13 +181,8 @@ class CameraBridge {
   ros::ServiceServer step_service_;
   ros::ServiceClient scene_client_;
 
-  // The episode.
-  bool has_episode_ = false;
-  bool episode_over_ = false;
-  int step_index_ = 0;
-  std::int64_t last_estimate_px_ = -1;
-  int clear_views_ = 0;  // step views in a row whose estimate is at or below the threshold
-  double reward_normalizer_ = 1.0;  // Z: the reset view's estimate [px], at least 1
+  // The episode: the simulator's rule (env/episode_rule.hpp) on the estimate.
+  EpisodeRule rule_;
 
   // Reused buffers of convertFrame() and fillObservation(); rgb_ and depth_ are views of the last
   // frame (the central square when square_crop).
