@@ -6,13 +6,16 @@
 
 #include <algorithm>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/episode_rule.hpp"
+#include "occlusion_env/env/simulated_camera_rig.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -51,8 +54,88 @@ RuleImplementation simulatorRuleImplementation() {
   return simulator;
 }
 
+// A camera whose frames are a grey wall at the sphere's radius and whose "estimates" are
+// written out per scene: the estimate of the reset view, then of each step's view.
+class ScriptedCamera : public CameraRig, public ViewOcclusionEstimator {
+ public:
+  explicit ScriptedCamera(std::map<std::uint64_t, std::vector<std::int64_t>> estimates)
+      : estimates_(std::move(estimates)), sphere_(4.0, 1.3962634016) {
+    frame_.rgb = cv::Mat(48, 64, CV_8UC3, cv::Scalar(128, 128, 128));
+    frame_.depth = cv::Mat(48, 64, CV_32FC1, cv::Scalar(4.0f));
+    frame_.intrinsics = CameraIntrinsics::fromFieldOfView(64, 48, 1.0);
+  }
+  void arrangeScene(std::uint64_t seed, const ResetOptions& /*overrides*/) override {
+    script_ = &estimates_.at(seed);
+    view_ = 0;
+    frame_.sphere_from_optical = sphere_.worldFromOptical({0.0, 0.0});
+  }
+  Eigen::Isometry3d cameraPose() override { return frame_.sphere_from_optical; }
+  const CameraFrame& moveTo(const SphericalPose& goal) override {
+    frame_.sphere_from_optical = sphere_.worldFromOptical(goal);
+    return frame_;
+  }
+  const CameraFrame& currentFrame() override { return frame_; }
+  std::string describe() const override { return "a scripted camera"; }
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, cv::Mat& mask) override {
+    mask = cv::Mat::zeros(rgb.size(), CV_8UC1);
+    const std::size_t view = std::min(view_++, script_->size() - 1);  // the last one repeats
+    return (*script_)[view];
+  }
+
+ private:
+  std::map<std::uint64_t, std::vector<std::int64_t>> estimates_;
+  const std::vector<std::int64_t>* script_ = nullptr;
+  std::size_t view_ = 0;
+  SphericalCamera sphere_;
+  CameraFrame frame_;
+};
+
+// The camera bridge's logic (CameraEnvironment) in front of the scripted camera.
+class ScriptedBridge : public EnvironmentInterface {
+ public:
+  explicit ScriptedBridge(const EpisodeRuleOptions& rule)
+      : camera_({{2, {40, 30, 0, 12, 0, 0, 0, 8}}, {0, {50, 50, 20, 10, 0}}}),
+        bridge_(optionsFor(rule), camera_, &camera_) {}
+  StepResult reset(std::uint64_t seed, const ResetOptions& overrides) override {
+    return bridge_.reset(seed, overrides);
+  }
+  StepResult step(const Action& action) override { return bridge_.step(action); }
+  std::string describe() const override { return bridge_.describe(); }
+
+ private:
+  static CameraEnvironmentOptions optionsFor(const EpisodeRuleOptions& rule) {
+    CameraEnvironmentOptions options;
+    options.occlusion_threshold_px = rule.reward.success_threshold_pixels;
+    options.confirm_views = rule.confirm_views;
+    options.success_bonus = rule.reward.success_bonus;
+    options.step_penalty = rule.reward.step_penalty;
+    options.max_steps = rule.max_steps;
+    return options;
+  }
+  ScriptedCamera camera_;
+  CameraEnvironment bridge_;
+};
+
+// The bridge's logic on a scripted camera: its episodes are written out above (seed 2 clear at
+// step 2, and three clear steps in a row from step 4 on; seed 0 clear from step 4 on).
+RuleImplementation bridgeRuleImplementation() {
+  RuleImplementation bridge;
+  bridge.name = "camera_bridge";
+  bridge.make = [](const EpisodeRuleOptions& rule) -> std::unique_ptr<EnvironmentInterface> {
+    if (rule.reward.normalization != RewardNormalization::kIntersection) return nullptr;
+    return std::make_unique<ScriptedBridge>(rule);
+  };
+  bridge.clear_after_a_few_steps = {2, {1.0, 0.0}};
+  bridge.occluded_for_three_steps = {0, {0.0, 1.0}};
+  return bridge;
+}
+
+void PrintTo(const RuleImplementation& implementation, std::ostream* out) {
+  *out << implementation.name;
+}
+
 std::vector<RuleImplementation> ruleImplementations() {
-  return {simulatorRuleImplementation()};
+  return {simulatorRuleImplementation(), bridgeRuleImplementation()};
 }
 
 // The rule from its definition: R_t = (L_{t-1} - L_t) / max(1, L_0) + P, P the bonus on the
