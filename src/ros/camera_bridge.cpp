@@ -205,6 +205,7 @@ CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& opt
   core.square_crop = options.square_crop;
   core.min_valid_depth_fraction = options.min_valid_depth_fraction;
   core.working_range_factor = options.working_range_factor;
+  core.occlusion_probability = options.occlusion_probability;
   core.occlusion_threshold_px = options.occlusion_threshold_px;
   core.confirm_views = options.confirm_views;
   core.success_bonus = options.success_bonus;

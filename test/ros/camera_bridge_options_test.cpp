@@ -43,6 +43,7 @@ TEST(CameraBridgeOptionsTest, TheCoresDefaultsAreTheNodes) {
   EXPECT_EQ(node.square_crop, core.square_crop);
   EXPECT_EQ(node.min_valid_depth_fraction, core.min_valid_depth_fraction);
   EXPECT_EQ(node.working_range_factor, core.working_range_factor);
+  EXPECT_EQ(node.occlusion_probability, core.occlusion_probability);
   EXPECT_EQ(node.occlusion_threshold_px, core.occlusion_threshold_px);
   EXPECT_EQ(node.confirm_views, core.confirm_views);
   EXPECT_EQ(node.success_bonus, core.success_bonus);

@@ -74,6 +74,7 @@ struct CameraEnvironmentOptions {
   double min_valid_depth_fraction = 0.02;
   double working_range_factor = 10.0;
   // The stopping rule and reward on the estimate (doc/CAMERA_BRIDGE.md).
+  double occlusion_probability = 0.1;  // for the caller's network: a pixel is occluded above it
   std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate
   int confirm_views = 5;                    // this many clear step views in a row end an episode
   double success_bonus = 5.0;
