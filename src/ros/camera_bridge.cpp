@@ -282,8 +282,15 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
   if (!options_.scene_service.empty()) {
     scene_client_ = node_.serviceClient<Reset>(options_.scene_service);
   }
-  reset_service_ = service_node.advertiseService(names::kResetService, &CameraBridge::reset, this);
-  step_service_ = service_node.advertiseService(names::kStepService, &CameraBridge::step, this);
+  services_ = std::make_unique<EnvironmentServices>(
+      service_node, environment_,
+      [this](const StepResult& result, CameraObservation& observation) {
+        fillObservation(result, observation);
+      },
+      [this](const StepResult& /*result*/, double answer_s) {
+        // Apart from waiting for the robot and the camera: the bridge's own work.
+        noteStepTiming(answer_s - robot_s_ - frame_s_, robot_s_, frame_s_);
+      });
 }
 
 CameraBridge::~CameraBridge() = default;
@@ -542,39 +549,6 @@ void CameraBridge::fillObservation(const StepResult& result, CameraObservation& 
     observation.occlusion_source = CameraObservation::UNAVAILABLE;
     observation.occlusion_mask = sensor_msgs::Image();
   }
-}
-
-bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
-  response.status = runWithStatus([&] {
-    const StepResult result = environment_.reset(request.seed, toResetOptions(request));
-    fillObservation(result, response.observation);
-  });
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("reset refused: " << response.status.message);
-  }
-  return true;
-}
-
-bool CameraBridge::step(Step::Request& request, Step::Response& response) {
-  const auto started = std::chrono::steady_clock::now();
-  robot_s_ = frame_s_ = 0.0;
-  response.status = runWithStatus([&] {
-    Action action;
-    action.d_azimuth_rad = request.action.d_azimuth;
-    action.d_elevation_rad = request.action.d_elevation;
-    const StepResult result = environment_.step(action);
-    fillObservation(result, response.observation);
-    response.reward = result.reward;
-    response.terminated = result.terminated;
-    response.truncated = result.truncated;
-    response.occlusion_pixels = result.info.occlusion.total_pixels;
-  });
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("step refused: " << response.status.message);
-  } else {
-    noteStepTiming(secondsSince(started) - robot_s_ - frame_s_, robot_s_, frame_s_);
-  }
-  return true;
 }
 
 void CameraBridge::noteStepTiming(double overhead_s, double robot_s, double frame_s) {

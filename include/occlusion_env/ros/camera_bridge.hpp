@@ -38,6 +38,7 @@
 #include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/ros/environment_services.hpp"
 
 namespace occlusion_env {
 
@@ -112,11 +113,9 @@ class CameraBridge : private CameraRig {
   CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node, tf2_ros::Buffer& tf);
   ~CameraBridge() override;
 
-  /// Serves reset and step, one at a time, until ROS shuts down.
+  /// Serves reset and step (the simulator's server, ros/environment_services.hpp), one at a time,
+  /// until ROS shuts down.
   void spinServices();
-
-  bool reset(Reset::Request& request, Reset::Response& response);
-  bool step(Step::Request& request, Step::Response& response);
 
  private:
   using Sync =
@@ -179,8 +178,7 @@ class CameraBridge : private CameraRig {
   // Services, on their own queue (spinServices()).
   ros::CallbackQueue service_queue_;
   ros::Publisher goal_publisher_;
-  ros::ServiceServer reset_service_;
-  ros::ServiceServer step_service_;
+  std::unique_ptr<EnvironmentServices> services_;  // reset and step, on service_queue_
   ros::ServiceClient scene_client_;
 
   // The rig's state: frames from before view_since_ (the arrangement; zero after a move or a
