@@ -45,4 +45,26 @@ const CameraFrame& SimulatedCameraRig::takeFrame() {
   return frame_;
 }
 
+BridgedSimulator::BridgedSimulator(Environment& simulator, CameraEnvironmentOptions options,
+                                   ViewOcclusionEstimator* estimator, bool millimetre_depth)
+    : simulator_(simulator),
+      rig_(simulator, millimetre_depth),
+      bridge_(onTheSimulatorsSphere(simulator, std::move(options)), rig_, estimator) {}
+
+CameraEnvironmentOptions BridgedSimulator::onTheSimulatorsSphere(const Environment& simulator,
+                                                                 CameraEnvironmentOptions options) {
+  const EnvironmentOptions& simulated = simulator.options();
+  if (simulated.camera_randomization.enabled) {
+    throw InvalidArgumentError(
+        "the camera bridge needs one camera radius (its sphere is fixed): switch off the "
+        "camera randomisation");
+  }
+  options.radius_m = simulated.radius_m;
+  options.elevation_limit_rad = simulated.elevation_limit_rad;
+  options.step_size_rad = simulated.step_size_rad;
+  options.normalize_action = simulated.normalize_action;
+  options.max_steps = simulated.max_steps;
+  return options;
+}
+
 }  // namespace occlusion_env

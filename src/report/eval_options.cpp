@@ -58,7 +58,12 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "other sources)")
                .range(1, eval::kSweepSeedSearch))
       .add("model", &O::model,
-           OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"));
+           OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"))
+      .add("through_bridge", &O::through_bridge,
+           OptionSpec("with --scenes: \"\" runs on the simulator; else through the camera "
+                      "bridge's logic in front of it (doc/CAMERA_BRIDGE.md), this network model "
+                      "estimating the occlusion, the simulator's truth scoring where each episode "
+                      "ended (OUT/<set>_bridge_*)"));
 }
 
 void addOutputOptions(OptionTable<EvalOptions>& table) {
@@ -106,6 +111,9 @@ void EvalOptions::resolve() {
         "--all");
   }
   if (!report.empty() && !all) throw InvalidArgumentError("--report needs --all");
+  if (!through_bridge.empty() && scenes.empty()) {
+    throw InvalidArgumentError("--through-bridge needs --scenes");
+  }
   if (source_dir.empty()) source_dir = packageShareDirectory();
   if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";
 }

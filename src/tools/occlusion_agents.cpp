@@ -118,46 +118,32 @@ class Environments {
  public:
   explicit Environments(const Arguments& args) : simulator_(simulatorOptions(args)) {
     if (args.through_bridge.empty()) return;
-    const occlusion_env::EnvironmentOptions& options = simulator_.options();
-    occlusion_env::CameraEnvironmentOptions bridge = args.bridge;
-    bridge.radius_m = options.radius_m;  // the bridge's sphere is the simulator's
-    bridge.elevation_limit_rad = options.elevation_limit_rad;
-    bridge.step_size_rad = options.step_size_rad;
-    bridge.normalize_action = options.normalize_action;
-    bridge.max_steps = options.max_steps;
     estimator_ = std::make_unique<occlusion_env::learning::NetworkOcclusionEstimator>(
         std::make_shared<occlusion_env::learning::LoadedModel>(
             occlusion_env::learning::loadModel(args.through_bridge)),
-        bridge.occlusion_probability);
-    rig_ = std::make_unique<occlusion_env::SimulatedCameraRig>(simulator_, args.millimetre_depth);
-    bridge_ = std::make_unique<occlusion_env::CameraEnvironment>(bridge, *rig_, estimator_.get());
+        args.bridge.occlusion_probability);
+    bridged_ = std::make_unique<occlusion_env::BridgedSimulator>(
+        simulator_, args.bridge, estimator_.get(), args.millimetre_depth);
   }
 
   /// What the agents act on.
   occlusion_env::EnvironmentInterface& agentsEnvironment() {
-    return bridge_ ? static_cast<occlusion_env::EnvironmentInterface&>(*bridge_) : simulator_;
+    return bridged_ ? static_cast<occlusion_env::EnvironmentInterface&>(bridged_->bridge())
+                    : simulator_;
   }
-  bool throughBridge() const { return bridge_ != nullptr; }
-  Truth truth() const {
-    const std::int64_t occlusion_px = simulator_.info().occlusion.total_pixels;
-    return {occlusion_px, simulator_.reward().solved(occlusion_px)};
-  }
+  bool throughBridge() const { return bridged_ != nullptr; }
+  Truth truth() const { return {bridged_->trueOcclusion(), bridged_->trulyClear()}; }
 
  private:
   static occlusion_env::EnvironmentOptions simulatorOptions(const Arguments& args) {
     occlusion_env::EnvironmentOptions options = args.options;
     options.width = options.height = args.size;
-    if (!args.through_bridge.empty() && options.camera_randomization.enabled) {
-      throw occlusion_env::InvalidArgumentError(
-          "--through-bridge needs one camera radius: the bridge's sphere is fixed");
-    }
     return options;
   }
 
   occlusion_env::Environment simulator_;
   std::unique_ptr<occlusion_env::ViewOcclusionEstimator> estimator_;
-  std::unique_ptr<occlusion_env::SimulatedCameraRig> rig_;
-  std::unique_ptr<occlusion_env::CameraEnvironment> bridge_;
+  std::unique_ptr<occlusion_env::BridgedSimulator> bridged_;
 };
 
 /// Every agent's episodes on every scene, [agent][scene]; with the bridge, the truth where each

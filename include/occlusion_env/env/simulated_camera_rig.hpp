@@ -37,4 +37,29 @@ class SimulatedCameraRig : public CameraRig {
   cv::Mat millimetres_, rounded_depth_m_;  // reused with millimetre_depth
 };
 
+/// The camera bridge's logic in front of the simulator, in process (what camera_bridge.launch
+/// stand_in:=true runs over ROS): the bridge's sphere, step and limits are the simulator's, its
+/// rule and estimator as given. The simulator's truth scores where the bridge's camera is.
+class BridgedSimulator {
+ public:
+  /// `simulator` and `estimator` must outlive this. Throws InvalidArgumentError when the
+  /// simulator draws its camera per scene (the bridge's sphere is fixed).
+  BridgedSimulator(Environment& simulator, CameraEnvironmentOptions options,
+                   ViewOcclusionEstimator* estimator, bool millimetre_depth = false);
+
+  /// What agents act on.
+  CameraEnvironment& bridge() { return bridge_; }
+  /// The simulator's occlusion L of the view the camera has now [px], and whether it is clear.
+  std::int64_t trueOcclusion() const { return simulator_.info().occlusion.total_pixels; }
+  bool trulyClear() const { return simulator_.reward().solved(trueOcclusion()); }
+
+ private:
+  static CameraEnvironmentOptions onTheSimulatorsSphere(const Environment& simulator,
+                                                        CameraEnvironmentOptions options);
+
+  Environment& simulator_;
+  SimulatedCameraRig rig_;
+  CameraEnvironment bridge_;
+};
+
 }  // namespace occlusion_env

@@ -36,6 +36,7 @@ struct EvalOptions {
   std::string plot_script;
   std::string report;
   std::string model;
+  std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
