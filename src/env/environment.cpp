@@ -43,6 +43,15 @@ SceneSetup initialSetup(const EnvironmentOptions& options) {
   return drawSceneSetup(fixed, 0);
 }
 
+/// The simulator's episode rule: the true occlusion ends an episode on its first clear view.
+EpisodeRuleOptions simulatorEpisodeRule(const EnvironmentOptions& options) {
+  EpisodeRuleOptions rule;
+  rule.reward = options.reward;
+  rule.max_steps = options.max_steps;
+  rule.confirm_views = 1;
+  return rule;
+}
+
 std::shared_ptr<ObjectLibrary> libraryFor(const EnvironmentOptions& options) {
   std::shared_ptr<const ObjectCatalog> catalog = makeCatalog(options.catalog);
   return std::make_shared<ObjectLibrary>(std::move(catalog), options.lod_triangle_budget);
@@ -110,7 +119,7 @@ Environment::Environment(const EnvironmentOptions& options, std::shared_ptr<Obje
       camera_(options.radius_m, options.elevation_limit_rad),
       library_(library ? std::move(library) : libraryFor(options)),
       setup_(initialSetup(options)),
-      reward_(options.reward) {
+      rule_(simulatorEpisodeRule(options)) {
   renderer_ = rendererFor(options, setup_.intrinsics);
   sensors_.resize(depthSensorNames().size());
   sensor_ = &sensorFor(setup_.depth_sensor);
@@ -202,7 +211,7 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       const int num_objects = static_cast<int>(candidate.objects.size());
       OcclusionStats occlusion = computeOcclusion(probe_buffers_.amodal_bits, num_objects,
                                                   probe_buffers_.target_footprint);
-      if (reward_.solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
+      if (rule_.reward().solved(occlusion.total_pixels)) continue;  // the threshold only, not Z
 
       scene_ = std::move(candidate);
       room_ = std::move(candidate_room);
@@ -215,13 +224,12 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       observeThroughSensor();
       observation_.instance = buffers_.instance;
       observation_.amodal_bits = buffers_.amodal_bits;
-      reward_.startEpisode(occlusion);
+      rule_.start(occlusion);
       info_.occlusion = std::move(occlusion);
       info_.pose = start_pose;
       info_.world_from_optical = world_from_optical;
-      info_.step_index = 0;
+      info_.step_index = rule_.stepIndex();
       has_episode_ = true;
-      episode_over_ = false;
 
       StepResult result;
       result.observation = &observation_;
@@ -253,23 +261,20 @@ std::unique_ptr<Room> Environment::roomFor(Scene& scene, const SceneSetup& setup
 
 StepResult Environment::step(const Action& action) {
   if (!has_episode_) throw InvalidStateError("step() before any reset(): call reset first");
-  if (episode_over_) {
-    throw InvalidStateError("the episode has ended (terminated or truncated): call reset");
-  }
+  rule_.requireStep();
   const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
 
-  const std::int64_t previous = info_.occlusion.total_pixels;
   info_.pose = camera_.moved(info_.pose, move.d_azimuth_rad, move.d_elevation_rad);
   info_.world_from_optical = camera_.worldFromOptical(info_.pose);
   renderCurrent();
-  ++info_.step_index;
+  const StepVerdict verdict = rule_.step(info_.occlusion.total_pixels);
+  info_.step_index = rule_.stepIndex();
 
   StepResult result;
   result.observation = &observation_;
-  result.reward = reward_(previous, info_.occlusion.total_pixels);
-  result.terminated = reward_.solved(info_.occlusion.total_pixels);
-  result.truncated = !result.terminated && info_.step_index >= options_.max_steps;
-  episode_over_ = result.terminated || result.truncated;
+  result.reward = verdict.reward;
+  result.terminated = verdict.terminated;
+  result.truncated = verdict.truncated;
   result.info = info_;
   return result;
 }

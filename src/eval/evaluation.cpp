@@ -5,6 +5,7 @@
 
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/simulated_camera_rig.hpp"
 
 namespace occlusion_env {
 namespace eval {
@@ -22,13 +23,20 @@ int EvaluationPlan::episodes(const AgentRegistry& registry) const {
 }
 
 std::vector<EpisodeRecord> runEvaluation(const EvaluationPlan& plan, const AgentRegistry& registry,
-                                         std::ostream* csv, ProgressBar* progress) {
+                                         std::ostream* csv, ProgressBar* progress,
+                                         std::vector<std::int64_t>* true_final_occlusion_px) {
   if (plan.max_steps < 1) throw InvalidArgumentError("max_steps must be >= 1");
   const std::vector<std::string> agents = agentsOf(plan, registry);
   for (const auto& name : agents) registry.at(name);  // unknown names fail before any work
   EnvironmentOptions options = environmentOptionsFor(plan.scenes, plan.environment);
   options.max_steps = plan.max_steps;
-  Environment environment(options);
+  Environment simulator(options);
+  std::unique_ptr<BridgedSimulator> bridged;
+  if (plan.bridge_estimator) {
+    bridged = std::make_unique<BridgedSimulator>(simulator, plan.bridge, plan.bridge_estimator);
+  }
+  EnvironmentInterface& environment =
+      bridged ? static_cast<EnvironmentInterface&>(bridged->bridge()) : simulator;
 
   const std::vector<double> azimuths = plan.start_azimuths_rad.empty()
                                            ? std::vector<double>{plan.scenes.start_azimuth_rad}
@@ -57,6 +65,9 @@ std::vector<EpisodeRecord> runEvaluation(const EvaluationPlan& plan, const Agent
           csv->flush();
         }
         records.push_back(std::move(record));
+        if (bridged && true_final_occlusion_px) {
+          true_final_occlusion_px->push_back(bridged->trueOcclusion());
+        }
         if (progress) {
           const EpisodeRecord& last = records.back();
           progress->update(

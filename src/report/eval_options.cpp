@@ -69,7 +69,12 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
       .add("randomize", &O::randomize,
            OptionSpec("with --scenes: draw per scene the camera (radius, field of view, "
-                      "resolution, intrinsics) and, unless given, world and depth sensor"));
+                      "resolution, intrinsics) and, unless given, world and depth sensor"))
+      .add("through_bridge", &O::through_bridge,
+           OptionSpec("with --scenes: \"\" runs on the simulator; else through the camera "
+                      "bridge's logic in front of it (doc/CAMERA_BRIDGE.md), this network model "
+                      "estimating the occlusion, the simulator's truth scoring where each episode "
+                      "ended (OUT/<set>_bridge_*)"));
 }
 
 void addOutputOptions(OptionTable<EvalOptions>& table) {
@@ -119,6 +124,9 @@ void EvalOptions::resolve() {
   if (!report.empty() && !all) throw InvalidArgumentError("--report needs --all");
   if ((world || depth_sensor || randomize) && scenes.empty()) {
     throw InvalidArgumentError("--world, --depth-sensor and --randomize need --scenes");
+  }
+  if (!through_bridge.empty() && scenes.empty()) {
+    throw InvalidArgumentError("--through-bridge needs --scenes");
   }
   if (source_dir.empty()) source_dir = packageShareDirectory();
   if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";

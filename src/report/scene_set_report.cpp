@@ -10,6 +10,7 @@
 #include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/summary.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
 
 namespace occlusion_env {
 namespace report {
@@ -57,6 +58,68 @@ std::vector<EpisodeRecord> runPlanToCsv(const EvaluationPlan& plan, const std::s
   return records;
 }
 
+namespace {
+
+/// Through the bridge, per agent: how often the bridge said clear, how often the view was truly
+/// clear where the episode ended (`true_final_px`, the simulator's L), and how often they agreed.
+std::string bridgeTable(const std::vector<EpisodeRecord>& records,
+                        const std::vector<std::int64_t>& true_final_px,
+                        std::int64_t success_threshold_px) {
+  std::ostringstream table;
+  table << "| agent | episodes | bridge says clear | truly clear | verdict agrees | mean steps "
+           "|\n|---|---:|---:|---:|---:|---:|\n";
+  for (std::size_t first = 0; first < records.size();) {
+    std::size_t end = first;
+    int said = 0, truly = 0, agree = 0, steps = 0;
+    for (; end < records.size() && records[end].agent == records[first].agent; ++end) {
+      const bool clear = true_final_px[end] <= success_threshold_px;
+      said += records[end].success();
+      truly += clear;
+      agree += records[end].success() == clear;
+      steps += records[end].steps;
+    }
+    const int n = static_cast<int>(end - first);
+    table << "| " << records[first].agent << " | " << n << " | " << said << " | " << truly << " | "
+          << agree << " | " << static_cast<double>(steps) / n << " |\n";
+    first = end;
+  }
+  return table.str();
+}
+
+/// The --scenes mode through the bridge (--through-bridge): OUT/<set>_bridge_episodes.csv, the
+/// bridge's table in OUT/<set>_bridge.md, then the usual summary of those episodes.
+std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
+  learning::NetworkOcclusionEstimator estimator(
+      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)),
+      plan.bridge.occlusion_probability);
+  plan.bridge_estimator = &estimator;
+  if (cl.agents.empty()) {  // those that need only what a camera gives
+    plan.agents.clear();
+    for (const std::string& name : agentRegistry().runnableByDefault()) {
+      const AgentNeeds& needs = agentRegistry().at(name).needs;
+      if (!needs.simulation && !needs.occlusion_gradient) plan.agents.push_back(name);
+    }
+  }
+  const std::string name = plan.scenes.name + "_bridge";
+  const std::string csv_path = (fs::path(cl.out) / (name + "_episodes.csv")).string();
+  std::ofstream csv(csv_path);
+  if (!csv) throw InvalidArgumentError("cannot write " + csv_path);
+  ProgressBar progress(std::cerr, plan.episodes(agentRegistry()), name);
+  std::vector<std::int64_t> true_final_px;
+  const auto records = runEvaluation(plan, agentRegistry(), &csv, &progress, &true_final_px);
+  std::ostringstream markdown;
+  markdown << "Scene set `" << plan.scenes.name << "` through the camera bridge's logic in front "
+           << "of the simulator, network `" << cl.through_bridge << "`, "
+           << plan.bridge.confirm_views << " confirming views; truly clear: the simulator's L <= "
+           << plan.environment.reward.success_threshold_pixels << " px where the episode ended.\n\n"
+           << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);
+  std::ofstream((fs::path(cl.out) / (name + ".md")).string()) << markdown.str();
+  std::cout << markdown.str();
+  return markdown.str() + "\n" + writeSceneSetSummary(cl, records, name, csv_path);
+}
+
+}  // namespace
+
 std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   EvaluationPlan plan;
   plan.scenes = loadSceneSet(scenes_path);
@@ -69,6 +132,7 @@ std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   plan.model_path = cl.model;
   applySceneRandomization(plan.environment, cl.world, cl.depth_sensor, cl.randomize);
   plan.max_steps = cl.max_steps.value_or(50);
+  if (!cl.through_bridge.empty()) return runThroughBridge(cl, plan);
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlanToCsv(plan, csv_path);
   return writeSceneSetSummary(cl, records, plan.scenes.name, csv_path);

@@ -39,12 +39,6 @@ std::string milliseconds(double seconds) {
   return text.str();
 }
 
-// The central square of a width x height image.
-cv::Rect centralSquare(int width, int height) {
-  const int side = std::min(width, height);
-  return {(width - side) / 2, (height - side) / 2, side, side};
-}
-
 // `text` without trailing blanks.
 std::string trimmed(std::string text) {
   text.erase(text.find_last_not_of(" \n") + 1);
@@ -99,40 +93,6 @@ void checkCameraInfo(const sensor_msgs::CameraInfo& info, int width, int height,
   throw InvalidArgumentError("camera_info on " + topic + " " + problem.str() +
                              ": give the colour camera's camera_info, calibrated at the images' "
                              "resolution");
-}
-
-// The fraction of `depth_m` (NaN = no reading) within [near_m, far_m], the working range;
-// EnvironmentUnavailableError when it is below `min_fraction` or nothing is in range.
-double checkDepthCoverage(const cv::Mat& depth_m, double near_m, double far_m,
-                          double min_fraction) {
-  std::int64_t readings = 0, in_range = 0;
-  float nearest_m = std::numeric_limits<float>::infinity(), farthest_m = 0.0f;
-  for (int row = 0; row < depth_m.rows; ++row) {
-    const float* depth = depth_m.ptr<float>(row);
-    for (int col = 0; col < depth_m.cols; ++col) {
-      if (!(depth[col] > 0.0f)) continue;  // NaN: no reading
-      ++readings;
-      in_range += depth[col] >= near_m && depth[col] <= far_m;
-      nearest_m = std::min(nearest_m, depth[col]);
-      farthest_m = std::max(farthest_m, depth[col]);
-    }
-  }
-  const double fraction = static_cast<double>(in_range) / std::max<double>(1.0, depth_m.total());
-  if (in_range > 0 && fraction >= min_fraction) return fraction;
-  std::ostringstream text;
-  if (readings == 0) {
-    text << "no valid depth in the view (all NaN or 0: a covered lens, a camera closer than its "
-            "minimum range, a black or reflective scene)";
-  } else {
-    text << "only " << percent(fraction) << " of the view has depth within the working range ["
-         << near_m << ", " << far_m << "] m; its readings lie in [" << nearest_m << ", "
-         << farthest_m << "] m (depth in another unit than its encoding says, or a camera that "
-         << "does not look at the scene?)";
-  }
-  text << "; a view is used when at least " << percent(min_fraction)
-       << " of it has depth in the working range (~min_valid_depth_fraction, ~radius / "
-          "~working_range_factor to ~radius * ~working_range_factor)";
-  throw EnvironmentUnavailableError(text.str());
 }
 
 }  // namespace
@@ -236,6 +196,24 @@ ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options) {
           options.arrival_tolerance_steps * options.step_size_rad};
 }
 
+CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& options) {
+  CameraEnvironmentOptions core;
+  core.radius_m = options.radius_m;
+  core.elevation_limit_rad = options.elevation_limit_rad;
+  core.step_size_rad = options.step_size_rad;
+  core.normalize_action = options.normalize_action;
+  core.square_crop = options.square_crop;
+  core.min_valid_depth_fraction = options.min_valid_depth_fraction;
+  core.working_range_factor = options.working_range_factor;
+  core.occlusion_probability = options.occlusion_probability;
+  core.occlusion_threshold_px = options.occlusion_threshold_px;
+  core.confirm_views = options.confirm_views;
+  core.success_bonus = options.success_bonus;
+  core.step_penalty = options.step_penalty;
+  core.max_steps = options.max_steps;
+  return core;
+}
+
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
   CameraBridgeOptions options;
   readParameters(private_node, cameraBridgeOptionTable(), options);
@@ -252,26 +230,46 @@ CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node)
 // The bridge
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+
+// The network of ~model, ParameterError when it cannot be loaded; nullptr without one.
+std::unique_ptr<ViewOcclusionEstimator> estimatorFor(const CameraBridgeOptions& options) {
+  if (options.model_path.empty()) return nullptr;
+  try {
+    return std::make_unique<learning::NetworkOcclusionEstimator>(
+        std::make_shared<learning::LoadedModel>(learning::loadModel(options.model_path)),
+        options.occlusion_probability);
+  } catch (const std::exception& error) {
+    throw ParameterError("parameter ~model: " + std::string(error.what()));
+  }
+}
+
+// The intrinsics of a camera_info that checkCameraInfo() accepted.
+CameraIntrinsics intrinsicsOf(const sensor_msgs::CameraInfo& info) {
+  CameraIntrinsics intrinsics;
+  intrinsics.width = static_cast<int>(info.width);
+  intrinsics.height = static_cast<int>(info.height);
+  intrinsics.fx = info.K[0];
+  intrinsics.fy = info.K[4];
+  intrinsics.cx = info.K[2];
+  intrinsics.cy = info.K[5];
+  return intrinsics;
+}
+
+}  // namespace
+
 CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node,
                            tf2_ros::Buffer& tf)
-    : options_(options),
+    : options_((options.validate(), options)),
       node_(std::move(node)),
       tf_(tf),
       sphere_(options.radius_m, options.elevation_limit_rad),
+      estimator_(estimatorFor(options)),
+      environment_(cameraEnvironmentOptions(options), *this, estimator_.get()),
       rgb_subscriber_(node_, names::kRgbImageTopic, 5),
       depth_subscriber_(node_, names::kDepthImageTopic, 5),
       info_subscriber_(node_, names::kRgbCameraInfoTopic, 5),
       synchronizer_(Sync(10), rgb_subscriber_, depth_subscriber_, info_subscriber_) {
-  options_.validate();
-  if (!options_.model_path.empty()) {
-    try {
-      estimator_ = std::make_unique<learning::OcclusionEstimator>(
-          std::make_shared<learning::LoadedModel>(learning::loadModel(options_.model_path)),
-          options_.occlusion_probability);
-    } catch (const std::exception& error) {
-      throw ParameterError("parameter ~model: " + std::string(error.what()));
-    }
-  }
   synchronizer_.setMaxIntervalDuration(ros::Duration(options_.sync_slop_s));
   synchronizer_.registerCallback(&CameraBridge::onFrame, this);
 
@@ -284,8 +282,15 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
   if (!options_.scene_service.empty()) {
     scene_client_ = node_.serviceClient<Reset>(options_.scene_service);
   }
-  reset_service_ = service_node.advertiseService(names::kResetService, &CameraBridge::reset, this);
-  step_service_ = service_node.advertiseService(names::kStepService, &CameraBridge::step, this);
+  services_ = std::make_unique<EnvironmentServices>(
+      service_node, environment_,
+      [this](const StepResult& result, CameraObservation& observation) {
+        fillObservation(result, observation);
+      },
+      [this](const StepResult& /*result*/, double answer_s) {
+        // Apart from waiting for the robot and the camera: the bridge's own work.
+        noteStepTiming(answer_s - robot_s_ - frame_s_, robot_s_, frame_s_);
+      });
 }
 
 CameraBridge::~CameraBridge() = default;
@@ -338,7 +343,7 @@ std::string CameraBridge::opticalFrame() {
   return latest_frame_.rgb->header.frame_id;
 }
 
-Eigen::Isometry3d CameraBridge::cameraPose(const std::string& optical_frame, const ros::Time& stamp,
+Eigen::Isometry3d CameraBridge::lookUpPose(const std::string& optical_frame, const ros::Time& stamp,
                                            ros::Time* transform_stamp, double wait_s) {
   geometry_msgs::TransformStamped transform;
   try {
@@ -362,13 +367,13 @@ Eigen::Isometry3d CameraBridge::poseAt(const Frame& frame) {
       options_.optical_frame.empty() ? frame.rgb->header.frame_id : options_.optical_frame;
   const ros::Time& stamp = frame.rgb->header.stamp;
   try {
-    return cameraPose(optical_frame, stamp, nullptr, kTfWait_s);
+    return lookUpPose(optical_frame, stamp, nullptr, kTfWait_s);
   } catch (const EnvironmentUnavailableError&) {
-    return cameraPose(optical_frame, ros::Time(0));  // tf has not caught up: the latest
+    return lookUpPose(optical_frame, ros::Time(0));  // tf has not caught up: the latest
   }
 }
 
-ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
+ros::Time CameraBridge::sendGoalAndWait(const SphericalPose& goal) {
   const Eigen::Isometry3d sphere_from_goal = sphere_.worldFromOptical(goal);
   geometry_msgs::PoseStamped message;
   message.header.stamp = ros::Time::now();
@@ -384,7 +389,7 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   while (ros::ok()) {
     try {
       ros::Time stamp;
-      const Eigen::Isometry3d pose = cameraPose(opticalFrame(), ros::Time(0), &stamp);
+      const Eigen::Isometry3d pose = lookUpPose(opticalFrame(), ros::Time(0), &stamp);
       lookups_fail_since = ros::WallTime();
       distance_m = (pose.translation() - sphere_from_goal.translation()).norm();
       angle_rad = Eigen::AngleAxisd(sphere_from_goal.linear().transpose() * pose.linear()).angle();
@@ -416,219 +421,156 @@ ros::Time CameraBridge::moveTo(const SphericalPose& goal) {
   throw EnvironmentUnavailableError(text.str());
 }
 
-void CameraBridge::convertFrame(const Frame& frame) {
+// ---------------------------------------------------------------------------------------------
+// The rig: what the core (env/camera_environment.hpp) asks of the robot and the camera
+// ---------------------------------------------------------------------------------------------
+
+void CameraBridge::arrangeScene(std::uint64_t seed, const ResetOptions& overrides) {
+  ros::Time start = ros::Time::now();
+  if (scene_client_) {
+    // The scene's node may still be starting (loading its objects).
+    if (!scene_client_.waitForExistence(ros::Duration(options_.arrival_timeout_s))) {
+      throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
+                                        " did not appear within " +
+                                        std::to_string(options_.arrival_timeout_s) + " s");
+    }
+    Reset scene;
+    scene.request = toResetRequest(seed, overrides);
+    if (!scene_client_.call(scene)) {
+      throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
+                                        " could not be called");
+    }
+    throwForStatus(scene.response.status, "the scene service refused");
+    start = ros::Time::now();  // frames from before the scene was arranged do not count
+  }
+  view_since_ = start;
+}
+
+Eigen::Isometry3d CameraBridge::cameraPose() {
+  // After an arrangement (which may have moved the camera): at a frame from after it.
+  if (!view_since_.isZero()) return poseAt(waitForFrame(view_since_));
+  return lookUpPose(opticalFrame(), ros::Time(0), nullptr, kTfWait_s);
+}
+
+const CameraFrame& CameraBridge::moveTo(const SphericalPose& goal) {
+  auto waited = std::chrono::steady_clock::now();
+  const ros::Time arrived = sendGoalAndWait(goal);
+  robot_s_ = secondsSince(waited);
+  view_since_ = ros::Time();
+  waited = std::chrono::steady_clock::now();
+  const Frame frame = waitForFrame(arrived + ros::Duration(options_.settle_time_s));
+  frame_s_ = secondsSince(waited);
+  return takeFrame(frame);
+}
+
+const CameraFrame& CameraBridge::currentFrame() {
+  const Frame frame = waitForFrame(view_since_ + ros::Duration(options_.settle_time_s));
+  view_since_ = ros::Time();
+  return takeFrame(frame);
+}
+
+std::string CameraBridge::describe() const {
+  return "a camera on " + rgb_subscriber_.getTopic() + ", moved by a robot on " +
+         goal_publisher_.getTopic();
+}
+
+const CameraFrame& CameraBridge::takeFrame(const Frame& frame) {
   namespace enc = sensor_msgs::image_encodings;
   const sensor_msgs::Image& rgb_message = *frame.rgb;
   checkEncodings(rgb_message, *frame.depth);
   if (rgb_message.width == 0 || rgb_message.height == 0) {
     throw InvalidArgumentError("the colour image is empty");
   }
+  cv::Mat rgb;
   try {
     toMetricDepth(*frame.depth, depth_m_);
-    rgb_ = imageView(rgb_message, rgb_message.encoding, CV_8UC3);
+    rgb = imageView(rgb_message, rgb_message.encoding, CV_8UC3);
   } catch (const std::invalid_argument& error) {  // data shorter than width, height and step say
     throw InvalidArgumentError(std::string("camera image: ") + error.what());
   }
-  if (depth_m_.cols != rgb_.cols || depth_m_.rows != rgb_.rows) {
+  if (depth_m_.cols != rgb.cols || depth_m_.rows != rgb.rows) {
     throw InvalidArgumentError("depth is " + std::to_string(depth_m_.cols) + " x " +
                                std::to_string(depth_m_.rows) + ", colour " +
-                               std::to_string(rgb_.cols) + " x " + std::to_string(rgb_.rows) +
+                               std::to_string(rgb.cols) + " x " + std::to_string(rgb.rows) +
                                ": give depth registered to the colour image (e.g. "
                                "realsense2_camera's aligned_depth_to_color)");
   }
-  checkCameraInfo(*frame.info, rgb_.cols, rgb_.rows, info_subscriber_.getTopic());
-  region_ = options_.square_crop ? centralSquare(rgb_.cols, rgb_.rows)
-                                 : cv::Rect(0, 0, rgb_.cols, rgb_.rows);
+  checkCameraInfo(*frame.info, rgb.cols, rgb.rows, info_subscriber_.getTopic());
   // rgb8 is used where it lies (the response's copy is the only one); bgr8 is converted once.
-  rgb_ = rgb_(region_);
   if (rgb_message.encoding == enc::BGR8) {
-    cv::cvtColor(rgb_, bgr_to_rgb_, cv::COLOR_BGR2RGB);
-    rgb_ = bgr_to_rgb_;
+    cv::cvtColor(rgb, bgr_to_rgb_, cv::COLOR_BGR2RGB);
+    rgb = bgr_to_rgb_;
   }
-  depth_ = depth_m_(region_);
-  valid_depth_fraction_ = checkDepthCoverage(
-      depth_, options_.radius_m / options_.working_range_factor,
-      options_.radius_m * options_.working_range_factor, options_.min_valid_depth_fraction);
+  camera_frame_.rgb = rgb;
+  camera_frame_.depth = depth_m_;
+  camera_frame_.intrinsics = intrinsicsOf(*frame.info);
+  camera_frame_.sphere_from_optical = poseAt(frame);
+  taken_frame_ = frame;
+  return camera_frame_;
 }
 
-std::int64_t CameraBridge::fillObservation(const Frame& frame, int step_index,
-                                           CameraObservation& observation) {
-  convertFrame(frame);
-  const Eigen::Isometry3d sphere_from_optical = poseAt(frame);
+// ---------------------------------------------------------------------------------------------
+// The services
+// ---------------------------------------------------------------------------------------------
 
-  const std_msgs::Header& header = frame.rgb->header;
+void CameraBridge::fillObservation(const StepResult& result, CameraObservation& observation) {
+  const std_msgs::Header& header = taken_frame_.rgb->header;
   observation.header = header;
-  fillImage(rgb_, header, observation.rgb);
-  fillImage(depth_, header, observation.depth);
-  observation.camera_info = *frame.info;
+  fillImage(result.observation->rgb, header, observation.rgb);
+  fillImage(result.observation->depth, header, observation.depth);
+  observation.camera_info = *taken_frame_.info;
   observation.camera_info.header = header;
   if (options_.square_crop) {
     // The crop moves the principal point; the projection keeps its focal lengths.
-    observation.camera_info.width = region_.width;
-    observation.camera_info.height = region_.height;
-    observation.camera_info.K[2] -= region_.x;
-    observation.camera_info.K[5] -= region_.y;
-    observation.camera_info.P[2] -= region_.x;
-    observation.camera_info.P[6] -= region_.y;
+    const cv::Rect& crop = environment_.cropRegion();
+    observation.camera_info.width = crop.width;
+    observation.camera_info.height = crop.height;
+    observation.camera_info.K[2] -= crop.x;
+    observation.camera_info.K[5] -= crop.y;
+    observation.camera_info.P[2] -= crop.x;
+    observation.camera_info.P[6] -= crop.y;
     observation.camera_info.roi = sensor_msgs::RegionOfInterest();
   }
 
   observation.camera_pose.header.stamp = header.stamp;
   observation.camera_pose.header.frame_id = options_.sphere_frame;
-  observation.camera_pose.pose = toPose(sphere_from_optical);
-  const SphericalPose pose = sphericalPoseOf(sphere_from_optical.translation());
-  observation.azimuth = pose.azimuth_rad;
-  observation.elevation = pose.elevation_rad;
-  observation.step_index = step_index;
+  observation.camera_pose.pose = toPose(result.info.world_from_optical);
+  observation.azimuth = result.info.pose.azimuth_rad;
+  observation.elevation = result.info.pose.elevation_rad;
+  observation.step_index = result.info.step_index;
   observation.instance_mask = sensor_msgs::Image();
   observation.object_ids.clear();
   observation.object_categories.clear();
-  observation.occlusion.pairs.clear();
-  return estimateOcclusion(observation);
-}
-
-std::int64_t CameraBridge::estimateOcclusion(CameraObservation& observation) {
-  if (!estimator_) {
-    observation.occlusion_source = CameraObservation::UNAVAILABLE;
-    observation.occlusion.total_pixels = -1;
-    observation.occlusion.occluded_area_pixels = -1;
-    observation.occlusion.union_pixels = -1;
-    observation.occlusion_mask = sensor_msgs::Image();
-    return -1;
-  }
-  const std::int64_t estimate = estimator_->estimate(rgb_, depth_, mask_).occluded_pixels;
-  observation.occlusion_source = CameraObservation::ESTIMATED;
-  // The network predicts where silhouettes overlap, not how many overlap there: the area stands
-  // for L as well.
-  observation.occlusion.total_pixels = estimate;
-  observation.occlusion.occluded_area_pixels = estimate;
-  observation.occlusion.union_pixels = -1;
-  fillImage(mask_, observation.header, observation.occlusion_mask);
-  return estimate;
-}
-
-bool CameraBridge::reset(Reset::Request& request, Reset::Response& response) {
-  response.status = runWithStatus([&] {
-    // A request the bridge would refuse arranges no scene.
-    if ((request.set_start_azimuth && !std::isfinite(request.start_azimuth)) ||
-        (request.set_start_elevation && !std::isfinite(request.start_elevation))) {
-      throw InvalidArgumentError("start azimuth and elevation must be finite");
-    }
-    if (request.set_start_elevation &&
-        !(std::abs(request.start_elevation) <= options_.elevation_limit_rad)) {
-      throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
-    }
-    ros::Time start = ros::Time::now();
-    if (scene_client_) {
-      // The scene's node may still be starting (loading its objects).
-      if (!scene_client_.waitForExistence(ros::Duration(options_.arrival_timeout_s))) {
-        throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
-                                          " did not appear within " +
-                                          std::to_string(options_.arrival_timeout_s) + " s");
-      }
-      Reset scene;
-      scene.request = request;
-      if (!scene_client_.call(scene)) {
-        throw EnvironmentUnavailableError("the scene service " + scene_client_.getService() +
-                                          " could not be called");
-      }
-      throwForStatus(scene.response.status, "the scene service refused");
-      start = ros::Time::now();  // frames from before the scene was arranged do not count
-    }
-    if (request.set_start_azimuth || request.set_start_elevation) {
-      // Where the camera is now (after the scene service, which may have moved it): at a frame
-      // from after the request. The angle not asked for stays as it is.
-      const Frame current = waitForFrame(start);
-      const SphericalPose now = sphericalPoseOf(poseAt(current).translation());
-      const SphericalPose goal = sphere_.normalized(
-          {request.set_start_azimuth ? request.start_azimuth : now.azimuth_rad,
-           request.set_start_elevation ? request.start_elevation : now.elevation_rad});
-      start = moveTo(goal);
-    }
-    const Frame frame = waitForFrame(start + ros::Duration(options_.settle_time_s));
-    const std::int64_t estimate = fillObservation(frame, 0, response.observation);
-    // Z of the paper's reward, intersection-normalised: the union of the silhouettes cannot be
-    // estimated. Never below 1.
-    reward_normalizer_ = std::max<double>(1.0, static_cast<double>(estimate));
-    last_estimate_px_ = estimate;
-    // The start view does not confirm: confirm_views views the agent has moved to must.
-    clear_views_ = 0;
-    step_index_ = 0;
-    has_episode_ = true;
-    episode_over_ = false;
-  });
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("reset refused: " << response.status.message);
-  }
-  return true;
-}
-
-bool CameraBridge::step(Step::Request& request, Step::Response& response) {
-  const auto started = std::chrono::steady_clock::now();
-  double robot_s = 0.0, frame_s = 0.0;
-  response.status = runWithStatus([&] {
-    if (!has_episode_) throw InvalidStateError("step before any reset: call reset first");
-    if (episode_over_) {
-      throw InvalidStateError("the episode has ended (terminated or truncated): call reset");
-    }
-    Action action;
-    action.d_azimuth_rad = request.action.d_azimuth;
-    action.d_elevation_rad = request.action.d_elevation;
-    const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
-    // From where the camera really is, so that a robot's errors do not add up.
-    const SphericalPose now =
-        sphericalPoseOf(cameraPose(opticalFrame(), ros::Time(0), nullptr, kTfWait_s).translation());
-    const SphericalPose goal = sphere_.moved(now, move.d_azimuth_rad, move.d_elevation_rad);
-
-    auto waited = std::chrono::steady_clock::now();
-    const ros::Time arrived = moveTo(goal);
-    robot_s = secondsSince(waited);
-    waited = std::chrono::steady_clock::now();
-    const Frame frame = waitForFrame(arrived + ros::Duration(options_.settle_time_s));
-    frame_s = secondsSince(waited);
-
-    const std::int64_t estimate = fillObservation(frame, step_index_ + 1, response.observation);
-    // Only now does the episode change: every error above leaves it as it was.
-    ++step_index_;
-    if (estimator_) {
-      clear_views_ = estimate <= options_.occlusion_threshold_px ? clear_views_ + 1 : 0;
-      response.terminated = clear_views_ >= options_.confirm_views;
-      response.reward = static_cast<double>(last_estimate_px_ - estimate) / reward_normalizer_ +
-                        (response.terminated ? options_.success_bonus : options_.step_penalty);
-    }
-    response.truncated = !response.terminated && step_index_ >= options_.max_steps;
-    response.occlusion_pixels = estimate;
-    last_estimate_px_ = estimate;
-    episode_over_ = response.terminated || response.truncated;
-  });
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("step refused: " << response.status.message);
+  observation.occlusion = toOcclusionFigures(result.info.occlusion);
+  if (result.info.occlusion_source == OcclusionSource::kEstimated) {
+    observation.occlusion_source = CameraObservation::ESTIMATED;
+    fillImage(result.observation->occlusion_mask, header, observation.occlusion_mask);
   } else {
-    noteStepTiming(secondsSince(started) - robot_s - frame_s, robot_s, frame_s);
+    observation.occlusion_source = CameraObservation::UNAVAILABLE;
+    observation.occlusion_mask = sensor_msgs::Image();
   }
-  return true;
 }
 
 void CameraBridge::noteStepTiming(double overhead_s, double robot_s, double frame_s) {
-  overhead_s_.push_back(overhead_s);
-  robot_s_.push_back(robot_s);
-  frame_s_.push_back(frame_s);
-  valid_depth_fractions_.push_back(valid_depth_fraction_);
-  if (overhead_s_.size() < kTimingWindow) return;
+  overhead_times_s_.push_back(overhead_s);
+  robot_times_s_.push_back(robot_s);
+  frame_times_s_.push_back(frame_s);
+  valid_depth_fractions_.push_back(environment_.validDepthFraction());
+  if (overhead_times_s_.size() < kTimingWindow) return;
   ROS_INFO_STREAM(
       "camera bridge, median of the last "
-      << kTimingWindow << " steps: own work " << milliseconds(median(overhead_s_))
+      << kTimingWindow << " steps: own work " << milliseconds(median(overhead_times_s_))
       << " (goal, pose, conversion" << (estimator_ ? ", estimate" : "")
-      << "); waiting for the robot " << milliseconds(median(robot_s_))
-      << ", for the frame after arrival " << milliseconds(median(frame_s_))
+      << "); waiting for the robot " << milliseconds(median(robot_times_s_))
+      << ", for the frame after arrival " << milliseconds(median(frame_times_s_))
       << "; depth in the working range on " << percent(median(valid_depth_fractions_))
       << " of the view (lowest "
       << percent(*std::min_element(valid_depth_fractions_.begin(), valid_depth_fractions_.end()))
       << ", ~min_valid_depth_fraction " << percent(options_.min_valid_depth_fraction) << ")");
   valid_depth_fractions_.clear();
-  overhead_s_.clear();
-  robot_s_.clear();
-  frame_s_.clear();
+  overhead_times_s_.clear();
+  robot_times_s_.clear();
+  frame_times_s_.clear();
 }
 
 }  // namespace occlusion_env

@@ -133,6 +133,19 @@ ResetOptions toResetOptions(const Reset::Request& request) {
   return overrides;
 }
 
+Reset::Request toResetRequest(std::uint64_t seed, const ResetOptions& overrides) {
+  Reset::Request request;
+  request.seed = seed;
+  request.preset = overrides.preset.value_or("");
+  request.object_ids = overrides.object_ids;
+  request.categories = overrides.categories;
+  request.set_start_azimuth = overrides.start_azimuth_rad.has_value();
+  request.start_azimuth = overrides.start_azimuth_rad.value_or(0.0);
+  request.set_start_elevation = overrides.start_elevation_rad.has_value();
+  request.start_elevation = overrides.start_elevation_rad.value_or(0.0);
+  return request;
+}
+
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats) {
   OcclusionFigures figures;
   figures.total_pixels = stats.total_pixels;

@@ -53,12 +53,15 @@ SimulatorNode::SimulatorNode(const SimulatorOptions& options, ros::NodeHandle no
   static_transform_broadcaster_.sendTransform(
       bodyToOpticalTransform(ros::Time::now(), options_.camera_frame, options_.optical_frame));
 
+  // Served once the constructor has returned and the caller spins: the start-up reset comes first.
+  services_ = std::make_unique<EnvironmentServices>(
+      node_, environment_, [this](const StepResult& result, CameraObservation& observation) {
+        answerView(result, observation);
+      });
   resetAtStartUp(options_.start_seed, [this](Reset::Request& request, Reset::Response& response) {
     reset(request, response);
   });
 
-  reset_service_ = node_.advertiseService(names::kResetService, &SimulatorNode::reset, this);
-  step_service_ = node_.advertiseService(names::kStepService, &SimulatorNode::step, this);
   if (options_.offer_gradient) {
     gradient_service_ =
         node_.advertiseService(names::kGradientService, &SimulatorNode::getOcclusionGradient, this);
@@ -113,15 +116,16 @@ const std_msgs::Header& SimulatorNode::stampNewView() {
 }
 
 bool SimulatorNode::reset(Reset::Request& request, Reset::Response& response) {
-  response.status = runWithStatus([&] {
-    environment_.reset(request.seed, toResetOptions(request));
-    fillObservation(environment_, stampNewView(), options_.world_frame, response.observation);
-    publishView(/*scene_changed=*/true);
-  });
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("reset (seed " << request.seed << ") refused: " << response.status.message);
-  }
-  return true;  // the status carries errors; false would hide the response from the client
+  return services_->reset(request, response);
+}
+
+bool SimulatorNode::step(Step::Request& request, Step::Response& response) {
+  return services_->step(request, response);
+}
+
+void SimulatorNode::answerView(const StepResult& result, CameraObservation& observation) {
+  fillObservation(environment_, stampNewView(), options_.world_frame, observation);
+  publishView(/*scene_changed=*/result.info.step_index == 0);  // step 0: after a reset
 }
 
 Status SimulatorNode::applyStep(const CameraMove& move, StepResult& result) {
@@ -131,25 +135,6 @@ Status SimulatorNode::applyStep(const CameraMove& move, StepResult& result) {
     action.d_elevation_rad = move.d_elevation;
     result = environment_.step(action);
   });
-}
-
-bool SimulatorNode::step(Step::Request& request, Step::Response& response) {
-  StepResult result;
-  response.status = applyStep(request.action, result);
-  if (response.status.code == Status::OK) {
-    response.reward = result.reward;
-    response.terminated = result.terminated;
-    response.truncated = result.truncated;
-    response.occlusion_pixels = result.info.occlusion.total_pixels;
-    response.status = runWithStatus([&] {
-      fillObservation(environment_, stampNewView(), options_.world_frame, response.observation);
-      publishView(/*scene_changed=*/false);
-    });
-  }
-  if (response.status.code != Status::OK) {
-    ROS_WARN_STREAM("step refused: " << response.status.message);
-  }
-  return true;
 }
 
 bool SimulatorNode::getOcclusionGradient(GetOcclusionGradient::Request& request,

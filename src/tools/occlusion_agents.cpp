@@ -2,6 +2,9 @@
 // steps each needs to an unoccluded view (the paper's Table 4 protocol).
 //   occlusion_agents --scenes 50
 //   occlusion_agents --scenes 50 --source sweethome3d --category chair --category table
+//   occlusion_agents --agents predicted_escape --through-bridge models/multitask_unet64.pt
+//       (through the camera bridge's logic in front of the simulator: doc/CAMERA_BRIDGE.md)
+#include <algorithm>
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -12,8 +15,12 @@
 
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/simulated_camera_rig.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
 #include "occlusion_env/tools/cli_options.hpp"
 
 namespace {
@@ -30,6 +37,10 @@ struct Arguments {
   std::string model;  // "" = each agent's shipped model
   int size = 256;
   bool agents_markdown = false;
+  // Through the camera bridge's logic (env/camera_environment.hpp) in front of the simulator.
+  std::string through_bridge;  // "": directly; else the bridge's network model
+  occlusion_env::CameraEnvironmentOptions bridge;
+  bool millimetre_depth = false;
 };
 
 const OptionTable<Arguments>& argumentTable() {
@@ -40,14 +51,33 @@ const OptionTable<Arguments>& argumentTable() {
           .add("scenes", &Arguments::scenes,
                OptionSpec("number of scenes, seeds first-seed .. first-seed + N - 1")
                    .range(1, 1000000))
-          .add("first_seed", &Arguments::first_seed, OptionSpec("the first seed").range(0, 1000000))
+          .add("first_seed", &Arguments::first_seed,
+               OptionSpec("the first seed (test scenes: from 1000000 on)").range(0, 2000000000))
           .add("model", &Arguments::model,
                OptionSpec("model file for the agents that need one (\"\": each one's shipped "
                           "model)"))
           .add("size", &Arguments::size,
                OptionSpec("image width and height").unit("px").range(64, 1024))
-          .add("agents_markdown", &Arguments::agents_markdown,
-               OptionSpec("print the registry's agents as doc/AGENTS.md's Markdown table and exit"));
+          .add("through_bridge", &Arguments::through_bridge,
+               OptionSpec("\"\": run on the simulator; else run through the camera bridge's "
+                          "logic in front of it, this network model estimating the occlusion "
+                          "(the simulator's truth scores where each episode ended)"))
+          .add(
+              "confirm_views", [](Arguments& a) -> int& { return a.bridge.confirm_views; },
+              OptionSpec("with --through-bridge: clear views in a row that end an episode")
+                  .atLeast(1))
+          .add(
+              "occlusion_probability",
+              [](Arguments& a) -> double& { return a.bridge.occlusion_probability; },
+              OptionSpec("with --through-bridge: a pixel is occluded above this probability")
+                  .above(0)
+                  .below(1))
+          .add("millimetre_depth", &Arguments::millimetre_depth,
+               OptionSpec("with --through-bridge: depth rounded to millimetres, as 16UC1 "
+                          "cameras send it"))
+          .add(
+              "agents_markdown", &Arguments::agents_markdown,
+              OptionSpec("print the registry's agents as doc/AGENTS.md's Markdown table and exit"));
   return table;
 }
 
@@ -76,19 +106,60 @@ void printAgentsMarkdown(const occlusion_env::AgentRegistry& registry) {
   }
 }
 
-/// Every agent's episodes on every scene, [agent][scene].
+/// Where an episode through the bridge ended, by the simulator's truth.
+struct Truth {
+  std::int64_t occlusion_px = 0;
+  bool clear = false;
+};
+
+/// The simulator, and with --through-bridge the bridge's logic in front of it: what the agents
+/// run on.
+class Environments {
+ public:
+  explicit Environments(const Arguments& args) : simulator_(simulatorOptions(args)) {
+    if (args.through_bridge.empty()) return;
+    estimator_ = std::make_unique<occlusion_env::learning::NetworkOcclusionEstimator>(
+        std::make_shared<occlusion_env::learning::LoadedModel>(
+            occlusion_env::learning::loadModel(args.through_bridge)),
+        args.bridge.occlusion_probability);
+    bridged_ = std::make_unique<occlusion_env::BridgedSimulator>(
+        simulator_, args.bridge, estimator_.get(), args.millimetre_depth);
+  }
+
+  /// What the agents act on.
+  occlusion_env::EnvironmentInterface& agentsEnvironment() {
+    return bridged_ ? static_cast<occlusion_env::EnvironmentInterface&>(bridged_->bridge())
+                    : simulator_;
+  }
+  bool throughBridge() const { return bridged_ != nullptr; }
+  Truth truth() const { return {bridged_->trueOcclusion(), bridged_->trulyClear()}; }
+
+ private:
+  static occlusion_env::EnvironmentOptions simulatorOptions(const Arguments& args) {
+    occlusion_env::EnvironmentOptions options = args.options;
+    options.width = options.height = args.size;
+    return options;
+  }
+
+  occlusion_env::Environment simulator_;
+  std::unique_ptr<occlusion_env::ViewOcclusionEstimator> estimator_;
+  std::unique_ptr<occlusion_env::BridgedSimulator> bridged_;
+};
+
+/// Every agent's episodes on every scene, [agent][scene]; with the bridge, the truth where each
+/// ended in `truths` ([agent][scene]).
 std::vector<std::vector<occlusion_env::EpisodeRecord>> runEpisodes(
     const Arguments& args, const occlusion_env::AgentRegistry& registry,
-    const std::vector<std::string>& names) {
+    const std::vector<std::string>& names, std::vector<std::vector<Truth>>& truths) {
   using namespace occlusion_env;
-  EnvironmentOptions options = args.options;
-  options.width = options.height = args.size;
-  Environment environment(options);
+  Environments environments(args);
+  EnvironmentInterface& environment = environments.agentsEnvironment();
   std::vector<std::unique_ptr<Agent>> agents;
   for (const std::string& name : names) {
     agents.push_back(registry.make(name, {environment, args.model}));
   }
   std::vector<std::vector<EpisodeRecord>> episodes(names.size());
+  truths.assign(names.size(), {});
   EpisodeRunOptions run_options;
   run_options.max_steps = args.options.max_steps;
   const auto start = std::chrono::steady_clock::now();
@@ -102,6 +173,7 @@ std::vector<std::vector<occlusion_env::EpisodeRecord>> runEpisodes(
       EpisodeRecord record = runEpisode(environment, *agents[a], request, run_options);
       if (!record.completed()) throw std::runtime_error(names[a] + ": " + record.message);
       episodes[a].push_back(std::move(record));
+      if (environments.throughBridge()) truths[a].push_back(environments.truth());
     }
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -112,6 +184,33 @@ std::vector<std::vector<occlusion_env::EpisodeRecord>> runEpisodes(
   return episodes;
 }
 
+/// Through the bridge: how often the agent ended truly clear, and the bridge's verdict agreed.
+void printBridgeTable(const std::vector<std::string>& names,
+                      const std::vector<std::vector<occlusion_env::EpisodeRecord>>& episodes,
+                      const std::vector<std::vector<Truth>>& truths) {
+  std::cout << "through the bridge: agent, bridge says clear, truly clear (simulator), verdict "
+               "agrees, mean steps\n";
+  for (std::size_t a = 0; a < names.size(); ++a) {
+    int said_clear = 0, truly_clear = 0, agree = 0, steps = 0;
+    for (std::size_t e = 0; e < episodes[a].size(); ++e) {
+      said_clear += episodes[a][e].success();
+      truly_clear += truths[a][e].clear;
+      agree += episodes[a][e].success() == truths[a][e].clear;
+      steps += episodes[a][e].steps;
+    }
+    const int n = static_cast<int>(episodes[a].size());
+    std::cout << names[a] << "  " << said_clear << "/" << n << "  " << truly_clear << "/" << n
+              << "  " << agree << "/" << n << "  " << std::fixed << std::setprecision(1)
+              << static_cast<double>(steps) / std::max(1, n) << "\n";
+    for (std::size_t e = 0; e < episodes[a].size(); ++e) {
+      const occlusion_env::EpisodeRecord& record = episodes[a][e];
+      std::cout << "  seed " << record.scene_seed << ": bridge says "
+                << (record.success() ? "clear" : "occluded") << " after " << record.steps
+                << " steps, truth " << truths[a][e].occlusion_px << " px\n";
+    }
+  }
+}
+
 int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
   using namespace occlusion_env;
   if (args.agents_markdown) {
@@ -119,7 +218,9 @@ int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
     return 0;
   }
   const std::vector<std::string> names = args.agents.empty() ? registry.competitors() : args.agents;
-  const std::vector<std::vector<EpisodeRecord>> episodes = runEpisodes(args, registry, names);
+  std::vector<std::vector<Truth>> truths;
+  const std::vector<std::vector<EpisodeRecord>> episodes =
+      runEpisodes(args, registry, names, truths);
   std::cout << "source " << args.options.catalog.source << ", " << args.scenes << " scenes (seeds "
             << args.first_seed << ".." << args.first_seed + args.scenes - 1
             << "), start azimuth 0, " << args.size << " px, max " << args.options.max_steps
@@ -134,6 +235,7 @@ int run(const Arguments& args, const occlusion_env::AgentRegistry& registry) {
               << "/" << stats.completed << "   " << std::setw(6) << 100.0 * stats.successRate()
               << " %\n";
   }
+  if (!args.through_bridge.empty()) printBridgeTable(names, episodes, truths);
   return 0;
 }
 
@@ -153,7 +255,11 @@ int main(int argc, char** argv) {
       app, environmentOptionTable(), args.options,
       {"max_steps", "catalog_source", "catalog_paths", "categories", "model_split"});
   tools::addOptionFlags(app, argumentTable(), args, {"model", "size"});
-  tools::addOptionFlags(app, environmentOptionTable(), args.options, {"gradient_method"});
+  tools::addOptionFlags(app, environmentOptionTable(), args.options,
+                        {"gradient_method", "world", "depth_sensor"});
+  tools::addOptionFlags(
+      app, argumentTable(), args,
+      {"through_bridge", "confirm_views", "occlusion_probability", "millimetre_depth"});
   tools::addOptionFlags(app, argumentTable(), args, {"agents_markdown"});
   app.footer(agentList(registry));
   return tools::parseAndRun(app, argc, argv, [&] { return run(args, registry); });

@@ -6,6 +6,7 @@
 // stopped on a view that is truly clear, stopped too early, or run to the step limit.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -13,7 +14,9 @@
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/episode_rule.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
@@ -87,16 +90,21 @@ struct View {
   std::vector<std::int64_t> estimated_pixels;  // per Arguments::probabilities
 };
 
-// Where the bridge's rule stops on `path`: the first view after the start whose estimate and the
-// confirm - 1 views before it (views after steps only, never the start view) are at most
-// `threshold`; path.size() when it never does.
+// Where the bridge's rule (env/episode_rule.hpp, as the bridge sets it) stops on `path`: the
+// step whose view is the confirm-th in a row estimated at most `threshold` (the start view never
+// counts); path.size() when it never does.
 std::size_t stopOf(const std::vector<View>& path, std::size_t probability, double threshold,
                    int confirm) {
-  int run = 0;
-  // The start view neither ends an episode nor confirms one (the bridge's rule): from step 1 on.
+  occlusion_env::CameraEnvironmentOptions bridge;
+  bridge.occlusion_threshold_px = static_cast<std::int64_t>(std::floor(threshold));
+  bridge.confirm_views = confirm;
+  bridge.max_steps = std::max<int>(1, static_cast<int>(path.size()) - 1);
+  occlusion_env::EpisodeRule rule(bridge.rule());
+  occlusion_env::OcclusionStats start;
+  start.total_pixels = path.front().estimated_pixels[probability];
+  rule.start(start);
   for (std::size_t t = 1; t < path.size(); ++t) {
-    run = static_cast<double>(path[t].estimated_pixels[probability]) <= threshold ? run + 1 : 0;
-    if (run >= confirm) return t;
+    if (rule.step(path[t].estimated_pixels[probability]).terminated) return t;
   }
   return path.size();
 }

@@ -32,6 +32,31 @@ TEST(CameraBridgeArrivalTolerance, IsAFractionOfTheStepAtTheWorkingRadius) {
   EXPECT_NEAR(tolerance.angle_rad, 0.05, 1e-12);
 }
 
+TEST(CameraBridgeOptionsTest, TheCoresDefaultsAreTheNodes) {
+  // The in-process bridge (occlusion_agents --through-bridge) decides as the node does.
+  const CameraEnvironmentOptions node = cameraEnvironmentOptions(CameraBridgeOptions());
+  const CameraEnvironmentOptions core;
+  EXPECT_EQ(node.radius_m, core.radius_m);
+  EXPECT_EQ(node.elevation_limit_rad, core.elevation_limit_rad);
+  EXPECT_EQ(node.step_size_rad, core.step_size_rad);
+  EXPECT_EQ(node.normalize_action, core.normalize_action);
+  EXPECT_EQ(node.square_crop, core.square_crop);
+  EXPECT_EQ(node.min_valid_depth_fraction, core.min_valid_depth_fraction);
+  EXPECT_EQ(node.working_range_factor, core.working_range_factor);
+  EXPECT_EQ(node.occlusion_probability, core.occlusion_probability);
+  EXPECT_EQ(node.occlusion_threshold_px, core.occlusion_threshold_px);
+  EXPECT_EQ(node.confirm_views, core.confirm_views);
+  EXPECT_EQ(node.success_bonus, core.success_bonus);
+  EXPECT_EQ(node.step_penalty, core.step_penalty);
+  EXPECT_EQ(node.max_steps, core.max_steps);
+  // A changed option reaches the core.
+  CameraBridgeOptions changed;
+  changed.confirm_views = 3;
+  changed.occlusion_threshold_px = 16;
+  EXPECT_EQ(cameraEnvironmentOptions(changed).rule().confirm_views, 3);
+  EXPECT_EQ(cameraEnvironmentOptions(changed).rule().reward.success_threshold_pixels, 16);
+}
+
 TEST(CameraBridgeOptionsTest, SafetyOptionsAreRefusedOutsideTheirRanges) {
   const auto refused = [](auto change, const std::string& name) {
     CameraBridgeOptions options;

@@ -10,6 +10,7 @@
 
 #include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
+#include "occlusion_env/env/episode_rule.hpp"
 #include "occlusion_env/env/room.hpp"
 #include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/geometry/camera.hpp"
@@ -124,7 +125,9 @@ class Environment : public EnvironmentInterface, public RenderedView {
   const CameraSensor& sensor() const { return *sensor_; }
   /// The current episode's world, sensor and camera (drawn per scene where the options say so).
   const SceneSetup& sceneSetup() const { return setup_; }
-  const RewardFunction& reward() const { return reward_; }
+  const RewardFunction& reward() const { return rule_.reward(); }
+  /// The episode's steps, reward and end (env/episode_rule.hpp: the camera bridge's rule too).
+  const EpisodeRule& episodeRule() const { return rule_; }
   ObjectLibrary& library() { return *library_; }
 
   // RenderedView (the occlusion gradients' view of the current episode).
@@ -155,7 +158,7 @@ class Environment : public EnvironmentInterface, public RenderedView {
   CameraSensor* sensor_ = nullptr;                      // the current episode's
   SceneSetup setup_;                                    // the current episode's
   std::unique_ptr<OcclusionGradient> gradient_;         // made on the first occlusionGradient()
-  RewardFunction reward_;
+  EpisodeRule rule_;  // the simulator's: clear on the first view at or below the threshold
   Scene scene_;
   std::unique_ptr<Room> room_;  // of scene_; null in the void world
   RenderBuffers buffers_;
@@ -164,7 +167,6 @@ class Environment : public EnvironmentInterface, public RenderedView {
   cv::Rect occlusion_mask_region_;  // where observation_.occlusion_mask may be non-zero [px]
   StepInfo info_;
   bool has_episode_ = false;
-  bool episode_over_ = false;
 };
 
 }  // namespace occlusion_env

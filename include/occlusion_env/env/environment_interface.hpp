@@ -1,7 +1,7 @@
 // The seam every agent and every camera plugs into: reset(seed) and step(action), with what an
-// agent may read. Implemented by the in-process simulator (Environment), by a client of the
-// simulator's ROS services (ros/environment_client.hpp) and, through those services, by the
-// camera bridge of a real camera.
+// agent may read. Implemented by the simulator (Environment), by the camera bridge's logic on a
+// camera rig (CameraEnvironment, env/camera_environment.hpp), both on one episode rule
+// (env/episode_rule.hpp), and by a client of their ROS services (ros/environment_client.hpp).
 #pragma once
 
 #include <cstdint>

@@ -8,6 +8,7 @@
 
 #include "occlusion_env/agents/agent_registry.hpp"
 #include "occlusion_env/agents/episode.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/eval/progress.hpp"
@@ -22,6 +23,11 @@ struct EvaluationPlan {
   int max_steps = 50;                      // per episode; the environment truncates there too
   EnvironmentOptions environment;          // the scene set's choices are applied on top
   std::string model_path;  // for agents that need a model; "" = each one's shipped model
+  /// Non-null: the agents run through the camera bridge's logic in front of the simulator
+  /// (env/simulated_camera_rig.hpp: BridgedSimulator), this estimating the occlusion; the records
+  /// then hold the bridge's verdict and estimate. Must outlive the run.
+  ViewOcclusionEstimator* bridge_estimator = nullptr;
+  CameraEnvironmentOptions bridge;  // its rule; sphere, step and limits are the simulator's
 
   int episodes(const AgentRegistry& registry) const;
 };
@@ -30,9 +36,11 @@ struct EvaluationPlan {
 /// `csv` (one row, flushed; header first) when given and to `progress` when given. Agents are
 /// reset with the scene seed, so a run is reproducible. Throws InvalidArgumentError for an unknown
 /// agent and the episode's message when one is cut short (an in-process environment refused a
-/// reset or step, or an agent failed).
-std::vector<EpisodeRecord> runEvaluation(const EvaluationPlan& plan, const AgentRegistry& registry,
-                                         std::ostream* csv, ProgressBar* progress);
+/// reset or step, or an agent failed). Through the bridge, `true_final_occlusion_px` (when given)
+/// gets the simulator's L where each episode ended [px], in the records' order.
+std::vector<EpisodeRecord> runEvaluation(
+    const EvaluationPlan& plan, const AgentRegistry& registry, std::ostream* csv,
+    ProgressBar* progress, std::vector<std::int64_t>* true_final_occlusion_px = nullptr);
 
 }  // namespace eval
 }  // namespace occlusion_env

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
 
@@ -40,6 +41,20 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
+};
+
+/// The network's estimate where the camera bridge's logic asks for one
+/// (env/camera_environment.hpp): the occluded pixels of its mask.
+class NetworkOcclusionEstimator : public ViewOcclusionEstimator {
+ public:
+  NetworkOcclusionEstimator(std::shared_ptr<LoadedModel> model, double probability_threshold)
+      : estimator_(std::move(model), probability_threshold) {}
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat& mask) override {
+    return estimator_.estimate(rgb, depth, mask).occluded_pixels;
+  }
+
+ private:
+  OcclusionEstimator estimator_;
 };
 
 }  // namespace learning

@@ -42,6 +42,7 @@ struct EvalOptions {
   std::optional<std::string> world;
   std::optional<std::string> depth_sensor;
   bool randomize = false;
+  std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.

@@ -36,13 +36,11 @@
 #include "occlusion_env/Reset.h"
 #include "occlusion_env/Step.h"
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/ros/environment_services.hpp"
 
 namespace occlusion_env {
-
-namespace learning {
-class OcclusionEstimator;
-}
 
 /// Every option of the bridge, with the defaults config/camera_bridge.yaml documents.
 struct CameraBridgeOptions {
@@ -99,20 +97,25 @@ ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options);
 /// Reads every option from the node's private namespace; absent parameters keep their defaults.
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
 
-class CameraBridge {
+/// The core's options of the bridge (env/camera_environment.hpp): its decision logic, apart from
+/// ROS.
+CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& options);
+
+/// The ROS side of the bridge: tf and the camera's topics are the rig of a CameraEnvironment
+/// (env/camera_environment.hpp), which decides everything else; its reset and step are served as
+/// the simulator's services.
+class CameraBridge : private CameraRig {
  public:
   /// `node` resolves the topics and services (occlusion/...); `tf` must be filled by a listener
   /// on its own thread. Loads the model (ParameterError when it cannot). Subscriptions are served
   /// by the global callback queue, which must be spun by another thread (an AsyncSpinner); the
   /// services by spinServices().
   CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node, tf2_ros::Buffer& tf);
-  ~CameraBridge();
+  ~CameraBridge() override;
 
-  /// Serves reset and step, one at a time, until ROS shuts down.
+  /// Serves reset and step (the simulator's server, ros/environment_services.hpp), one at a time,
+  /// until ROS shuts down.
   void spinServices();
-
-  bool reset(Reset::Request& request, Reset::Response& response);
-  bool step(Step::Request& request, Step::Response& response);
 
  private:
   using Sync =
@@ -123,6 +126,13 @@ class CameraBridge {
     sensor_msgs::CameraInfoConstPtr info;
   };
 
+  // CameraRig: the scene service, tf and the synchronised frames.
+  void arrangeScene(std::uint64_t seed, const ResetOptions& overrides) override;
+  Eigen::Isometry3d cameraPose() override;
+  const CameraFrame& moveTo(const SphericalPose& goal) override;
+  const CameraFrame& currentFrame() override;
+  std::string describe() const override;
+
   void onFrame(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::CameraInfoConstPtr& info);
   /// The first frame stamped at or after `after`, waiting until `after` and then up to
@@ -132,7 +142,7 @@ class CameraBridge {
   std::string opticalFrame();
   /// `optical_frame` in the sphere's frame at `stamp` (zero: the latest), waiting up to `wait_s`
   /// for tf; EnvironmentUnavailableError naming both frames when tf cannot say.
-  Eigen::Isometry3d cameraPose(const std::string& optical_frame, const ros::Time& stamp,
+  Eigen::Isometry3d lookUpPose(const std::string& optical_frame, const ros::Time& stamp,
                                ros::Time* transform_stamp = nullptr, double wait_s = 0.0);
   /// The optical frame of `frame` at its stamp, waiting briefly for tf to catch up; the latest
   /// pose when it does not.
@@ -140,24 +150,21 @@ class CameraBridge {
   /// Publishes the goal and waits until tf shows the camera there; returns the stamp of the
   /// transform that did. EnvironmentUnavailableError after the timeout, or at once when tf
   /// cannot place the optical frame at all.
-  ros::Time moveTo(const SphericalPose& goal);
-  /// Converts `frame` into rgb_ and depth_ (the central square when square_crop) after checking
-  /// that it can be used: InvalidArgumentError for encodings, sizes or a camera_info the bridge
-  /// cannot use, EnvironmentUnavailableError for a view without enough plausible depth.
-  void convertFrame(const Frame& frame);
-  /// Fills `observation` from `frame` (and estimates its occlusion); returns the estimate [px],
-  /// -1 when there is no model. Throws as convertFrame() does.
-  std::int64_t fillObservation(const Frame& frame, int step_index, CameraObservation& observation);
-  /// The estimate's fields of `observation` (the mask in mask_); returns the estimate [px], -1
-  /// when there is no model.
-  std::int64_t estimateOcclusion(CameraObservation& observation);
+  ros::Time sendGoalAndWait(const SphericalPose& goal);
+  /// `frame` as the core takes it (checked, depth in metres, rgb8) with its pose; keeps `frame`
+  /// for the answer. InvalidArgumentError for encodings, sizes or a camera_info the bridge cannot
+  /// use.
+  const CameraFrame& takeFrame(const Frame& frame);
+  /// The answer's observation: the core's view of the last frame, with that frame's header.
+  void fillObservation(const StepResult& result, CameraObservation& observation);
   void noteStepTiming(double overhead_s, double robot_s, double frame_s);
 
   CameraBridgeOptions options_;
   ros::NodeHandle node_;
   tf2_ros::Buffer& tf_;
   SphericalCamera sphere_;
-  std::unique_ptr<learning::OcclusionEstimator> estimator_;
+  std::unique_ptr<ViewOcclusionEstimator> estimator_;
+  CameraEnvironment environment_;  // the decision logic; this object is its rig
 
   // Input, on the global queue's thread.
   message_filters::Subscriber<sensor_msgs::Image> rgb_subscriber_;
@@ -171,28 +178,19 @@ class CameraBridge {
   // Services, on their own queue (spinServices()).
   ros::CallbackQueue service_queue_;
   ros::Publisher goal_publisher_;
-  ros::ServiceServer reset_service_;
-  ros::ServiceServer step_service_;
+  std::unique_ptr<EnvironmentServices> services_;  // reset and step, on service_queue_
   ros::ServiceClient scene_client_;
 
-  // The episode.
-  bool has_episode_ = false;
-  bool episode_over_ = false;
-  int step_index_ = 0;
-  std::int64_t last_estimate_px_ = -1;
-  int clear_views_ = 0;  // step views in a row whose estimate is at or below the threshold
-  double reward_normalizer_ = 1.0;  // Z: the reset view's estimate [px], at least 1
-
-  // Reused buffers of convertFrame() and fillObservation(); rgb_ and depth_ are views of the last
-  // frame (the central square when square_crop).
-  cv::Mat bgr_to_rgb_, depth_m_, mask_;
-  cv::Mat rgb_, depth_;
-  cv::Rect region_;
-
-  double valid_depth_fraction_ = 0.0;  // of the last converted view, in the working range
+  // The rig's state: frames from before view_since_ (the arrangement; zero after a move or a
+  // view) do not show the camera where it is.
+  ros::Time view_since_;
+  Frame taken_frame_;         // the last frame given to the core, for the answer's header
+  CameraFrame camera_frame_;  // its conversion
+  cv::Mat bgr_to_rgb_, depth_m_;
+  double robot_s_ = 0.0, frame_s_ = 0.0;  // the last move's waits
 
   // Timing and valid depth of the last steps, summarised in the log every kTimingWindow steps.
-  std::vector<double> overhead_s_, robot_s_, frame_s_, valid_depth_fractions_;
+  std::vector<double> overhead_times_s_, robot_times_s_, frame_times_s_, valid_depth_fractions_;
 };
 
 }  // namespace occlusion_env

@@ -57,6 +57,8 @@ geometry_msgs::TransformStamped bodyToOpticalTransform(const ros::Time& stamp,
 
 /// The per-reset overrides a Reset request asks for (empty or false fields: none).
 ResetOptions toResetOptions(const Reset::Request& request);
+/// The Reset request that asks for `seed` with `overrides` (toResetOptions() reads it back).
+Reset::Request toResetRequest(std::uint64_t seed, const ResetOptions& overrides);
 
 OcclusionFigures toOcclusionFigures(const OcclusionStats& stats);
 

@@ -17,6 +17,7 @@
 #include "occlusion_env/Step.h"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
+#include "occlusion_env/ros/environment_services.hpp"
 #include "occlusion_env/ros/parameters.hpp"
 
 namespace occlusion_env {
@@ -30,7 +31,8 @@ class SimulatorNode {
   SimulatorNode(const SimulatorOptions& options, ros::NodeHandle node,
                 ros::NodeHandle private_node);
 
-  /// The service handlers, public so that tests and benchmarks can call them in-process.
+  /// The service handlers, public so that tests and benchmarks can call them in-process (reset
+  /// and step are the shared server's, ros/environment_services.hpp).
   bool reset(Reset::Request& request, Reset::Response& response);
   bool step(Step::Request& request, Step::Response& response);
   bool getOcclusionGradient(GetOcclusionGradient::Request& request,
@@ -42,6 +44,9 @@ class SimulatorNode {
   void onMove(const CameraMove::ConstPtr& move);
   void onTfTimer(const ros::TimerEvent& event);
 
+  /// The observation of the environment's current view, stamped as a new view and published
+  /// (with the scene's markers after a reset).
+  void answerView(const StepResult& result, CameraObservation& observation);
   /// Stamps a new view (now, in the optical frame): every message of it carries this header.
   const std_msgs::Header& stampNewView();
   /// Publishes images, camera infos and the camera transform of the current view; the scene
@@ -71,8 +76,7 @@ class SimulatorNode {
   ros::Publisher scene_markers_publisher_;
   ros::Publisher step_outcome_publisher_;
   ros::Subscriber move_subscriber_;
-  ros::ServiceServer reset_service_;
-  ros::ServiceServer step_service_;
+  std::unique_ptr<EnvironmentServices> services_;  // reset and step
   ros::ServiceServer gradient_service_;
   ros::Publisher tf_publisher_;  // /tf, with the current view's transform for each new listener
   tf2_ros::StaticTransformBroadcaster static_transform_broadcaster_;

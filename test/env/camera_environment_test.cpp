@@ -1,0 +1,157 @@
+// The camera bridge's logic without ROS (env/camera_environment.hpp): in front of the in-process
+// simulator (env/simulated_camera_rig.hpp) with an estimator that knows the truth it plays the
+// simulator's own episodes; views without depth are refused and leave the episode as it was;
+// without an estimator only max_steps ends an episode.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/simulated_camera_rig.hpp"
+
+namespace occlusion_env {
+namespace {
+
+// An "estimate" that is the simulator's own count of the view the rig just rendered.
+class TrueOcclusion : public ViewOcclusionEstimator {
+ public:
+  explicit TrueOcclusion(const Environment& environment) : environment_(environment) {}
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, cv::Mat& mask) override {
+    mask = environment_.observation().occlusion_mask;
+    EXPECT_EQ(mask.size(), rgb.size());
+    return environment_.info().occlusion.total_pixels;
+  }
+
+ private:
+  const Environment& environment_;
+};
+
+EnvironmentOptions simulatorOptions() {
+  EnvironmentOptions options;
+  options.width = options.height = 64;
+  options.reward.normalization = RewardNormalization::kIntersection;  // the bridge's Z
+  return options;
+}
+
+TEST(CameraEnvironment, OnTheSimulatorWithTheTruthItPlaysTheSimulatorsEpisodes) {
+  Environment direct(simulatorOptions());
+  Environment stand_in(simulatorOptions());
+  SimulatedCameraRig rig(stand_in);
+  TrueOcclusion truth(stand_in);
+  CameraEnvironmentOptions options;
+  options.confirm_views = 1;  // the simulator's rule
+  CameraEnvironment bridge(options, rig, &truth);
+  for (const std::uint64_t seed : {0, 2, 4}) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    StepResult expected = direct.reset(seed);
+    StepResult got = bridge.reset(seed);
+    EXPECT_EQ(got.info.occlusion.total_pixels, expected.info.occlusion.total_pixels);
+    EXPECT_EQ(got.info.occlusion_source, OcclusionSource::kEstimated);
+    EXPECT_TRUE(got.info.world_from_optical.isApprox(expected.info.world_from_optical, 1e-12));
+    EXPECT_EQ(bridge.intrinsics().fx, stand_in.intrinsics().fx);
+    int steps = 0;
+    while (!expected.terminated && !expected.truncated) {
+      const Action action{1.0, 0.3};
+      expected = direct.step(action);
+      got = bridge.step(action);
+      ++steps;
+      SCOPED_TRACE("step " + std::to_string(steps));
+      EXPECT_NEAR(got.info.pose.azimuth_rad, expected.info.pose.azimuth_rad, 1e-9);
+      EXPECT_NEAR(got.info.pose.elevation_rad, expected.info.pose.elevation_rad, 1e-9);
+      EXPECT_EQ(got.info.occlusion.total_pixels, expected.info.occlusion.total_pixels);
+      EXPECT_DOUBLE_EQ(got.reward, expected.reward);
+      EXPECT_EQ(got.terminated, expected.terminated);
+      EXPECT_EQ(got.truncated, expected.truncated);
+      EXPECT_EQ(got.info.step_index, expected.info.step_index);
+      ASSERT_LT(steps, 60);
+    }
+    EXPECT_TRUE(expected.terminated) << "a scene the test should see cleared";
+  }
+}
+
+TEST(CameraEnvironment, WithoutAnEstimatorOnlyMaxStepsEndsAnEpisode) {
+  Environment stand_in(simulatorOptions());
+  SimulatedCameraRig rig(stand_in);
+  CameraEnvironmentOptions options;
+  options.max_steps = 30;
+  options.min_valid_depth_fraction = 0.005;  // 64 px of the void: the objects fill little
+  CameraEnvironment bridge(options, rig, nullptr);
+  StepResult result = bridge.reset(2);
+  EXPECT_EQ(result.info.occlusion_source, OcclusionSource::kUnavailable);
+  EXPECT_EQ(result.info.occlusion.total_pixels, kUnknownOcclusion);
+  EXPECT_TRUE(result.observation->occlusion_mask.empty());
+  for (int step = 1; step <= 30; ++step) {
+    result = bridge.step({1.0, 0.0});  // seed 2 turning left is truly clear after 4 steps
+    EXPECT_EQ(result.reward, 0.0);
+    EXPECT_FALSE(result.terminated);
+    EXPECT_EQ(result.truncated, step == 30);
+  }
+  EXPECT_THROW(bridge.step({1.0, 0.0}), InvalidStateError);
+}
+
+// A rig that gives one fixed frame, which a test can spoil.
+class FixedCamera : public CameraRig {
+ public:
+  FixedCamera() {
+    frame_.rgb = cv::Mat(60, 80, CV_8UC3, cv::Scalar(10, 20, 30));
+    frame_.depth = cv::Mat(60, 80, CV_32FC1, cv::Scalar(4.0f));
+    frame_.intrinsics = CameraIntrinsics::fromFieldOfView(80, 60, 1.0);
+    frame_.sphere_from_optical = SphericalCamera(4.0, 1.3).worldFromOptical({0.1, 0.2});
+  }
+  void arrangeScene(std::uint64_t, const ResetOptions&) override {}
+  Eigen::Isometry3d cameraPose() override { return frame_.sphere_from_optical; }
+  const CameraFrame& moveTo(const SphericalPose& goal) override {
+    frame_.sphere_from_optical = SphericalCamera(4.0, 1.3).worldFromOptical(goal);
+    return frame_;
+  }
+  const CameraFrame& currentFrame() override { return frame_; }
+  std::string describe() const override { return "a fixed camera"; }
+  CameraFrame frame_;
+};
+
+class CountingEstimator : public ViewOcclusionEstimator {
+ public:
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat&, cv::Mat& mask) override {
+    mask = cv::Mat::zeros(rgb.size(), CV_8UC1);
+    return 0;
+  }
+};
+
+TEST(CameraEnvironment, CropsToTheCentralSquareAndRefusesBlindViews) {
+  FixedCamera camera;
+  CountingEstimator estimator;
+  CameraEnvironment bridge(CameraEnvironmentOptions(), camera, &estimator);
+  const StepResult first = bridge.reset(0);
+  EXPECT_EQ(first.observation->rgb.size(), cv::Size(60, 60));
+  EXPECT_EQ(bridge.cropRegion(), cv::Rect(10, 0, 60, 60));
+  EXPECT_DOUBLE_EQ(bridge.intrinsics().cx, camera.frame_.intrinsics.cx - 10.0);
+  EXPECT_EQ(bridge.intrinsics().width, 60);
+  EXPECT_NEAR(first.info.pose.azimuth_rad, 0.1, 1e-9);
+  EXPECT_NEAR(first.info.pose.elevation_rad, 0.2, 1e-9);
+
+  // All depth lost (a covered lens): UNAVAILABLE, never an estimate, the episode as it was.
+  camera.frame_.depth.setTo(std::numeric_limits<float>::quiet_NaN());
+  EXPECT_THROW(bridge.step({1.0, 0.0}), EnvironmentUnavailableError);
+  EXPECT_EQ(bridge.episodeRule().stepIndex(), 0);
+  EXPECT_EQ(bridge.episodeRule().clearViewsInARow(), 0);
+  camera.frame_.depth.setTo(4000.0f);  // millimetres sent as metres: out of the working range
+  EXPECT_THROW(bridge.step({1.0, 0.0}), EnvironmentUnavailableError);
+  camera.frame_.depth.setTo(4.0f);
+  const StepResult next = bridge.step({1.0, 0.0});
+  EXPECT_EQ(next.info.step_index, 1);
+  EXPECT_FALSE(next.terminated);  // one clear view of the five that confirm
+  // Steps start from where the camera is: the refused steps had moved it twice already.
+  EXPECT_NEAR(next.info.pose.azimuth_rad, 0.25, 1e-9);
+
+  // A request it would refuse arranges no scene and moves nothing.
+  ResetOptions bad;
+  bad.start_elevation_rad = 2.0;
+  EXPECT_THROW(bridge.reset(0, bad), InvalidArgumentError);
+  EXPECT_EQ(bridge.episodeRule().stepIndex(), 1);
+}
+
+}  // namespace
+}  // namespace occlusion_env
