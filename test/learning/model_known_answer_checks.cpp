@@ -1,0 +1,175 @@
+// Known-answer checks of a multi-task network for real cameras (doc/TRAINING.md): on frames whose
+// answer is known without a label, nothing to occlude (a flat wall, an empty floor, one object
+// alone) must be estimated at 0 px, and content moved in the image must move its estimate with it
+// (IoU of the moved masks >= 0.8). Estimates are the camera bridge's: a pixel is occluded above
+// the bridge's default occlusion_probability (config/camera_bridge.yaml).
+//
+//   .build_ws/devel/lib/occlusion_env/model_known_answer_checks        the agents' default model
+//   MODEL=runs/x/best.pt .build_ws/devel/lib/occlusion_env/model_known_answer_checks
+//
+// Not part of `make test`: neither the shipped model nor the randomised-training attempt of issue
+// 27 passes them yet (EVALUATION.md, "Robustness").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+
+#include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
+#include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/occlusion_estimator.hpp"
+
+namespace occlusion_env {
+namespace learning {
+namespace {
+
+constexpr double kBridgeOcclusionProbability = 0.1;  // config/camera_bridge.yaml's default
+constexpr int kSize = 128;                          // [px], the training frames' size
+constexpr double kFocalPx = kSize / (2.0 * 0.57735026919);  // 60 deg horizontal field of view
+
+std::shared_ptr<LoadedModel> shippedModel() {
+  static const auto model = [] {
+    const char* path = std::getenv("MODEL");
+    const std::string chosen = path && *path ? path : defaultModelPath();
+    std::cout << "[checks] model " << chosen << "\n";
+    return std::make_shared<LoadedModel>(loadModel(chosen));
+  }();
+  return model;
+}
+
+std::int64_t estimatedPixels(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat* mask = nullptr) {
+  OcclusionEstimator estimator(shippedModel(), kBridgeOcclusionProbability);
+  cv::Mat local;
+  return estimator.estimate(rgb, depth, mask ? *mask : local).occluded_pixels;
+}
+
+/// A little pixel noise, as a camera's, so that the frames are not unnaturally flat.
+void addNoise(cv::Mat& rgb, int seed) {
+  cv::RNG random(seed);
+  cv::Mat noise(rgb.size(), CV_16SC3);
+  random.fill(noise, cv::RNG::NORMAL, 0, 3);
+  cv::Mat sum;
+  rgb.convertTo(sum, CV_16SC3);
+  sum += noise;
+  sum.convertTo(rgb, CV_8UC3);
+}
+
+TEST(ShippedModelTest, AFlatWallIsNotOcclusion) {
+  for (const double distance_m : {1.0, 2.0, 4.0}) {
+    for (const int grey : {90, 128, 200}) {
+      cv::Mat rgb(kSize, kSize, CV_8UC3, cv::Scalar(grey, grey, grey - 10));
+      addNoise(rgb, grey);
+      // A wall facing the camera: depth is the distance along the optical axis, the same everywhere.
+      const cv::Mat depth(kSize, kSize, CV_32FC1, cv::Scalar(distance_m));
+      EXPECT_EQ(estimatedPixels(rgb, depth), 0)
+          << "a grey (" << grey << ") wall " << distance_m << " m away";
+    }
+  }
+}
+
+TEST(ShippedModelTest, AnEmptyFloorIsNotOcclusion) {
+  // A camera `height` above a floor, pitched down by `pitch`: each row's ray meets the floor at
+  // depth height / (cos(pitch) * (v / f) + sin(pitch)) along the optical axis (y down).
+  for (const double height_m : {0.8, 1.5}) {
+    for (const double pitch_rad : {0.5, 0.9}) {
+      cv::Mat rgb(kSize, kSize, CV_8UC3);
+      cv::Mat depth(kSize, kSize, CV_32FC1);
+      for (int row = 0; row < kSize; ++row) {
+        const double v = (row + 0.5 - kSize / 2.0) / kFocalPx;
+        const double down = std::cos(pitch_rad) * v + std::sin(pitch_rad);
+        const float z = down > 1e-3 ? static_cast<float>(height_m / down) : NAN;
+        const bool seen = std::isfinite(z) && z < 8.0f;
+        const auto shade = static_cast<unsigned char>(seen ? 150 - 8 * std::min(z, 8.0f) : 0);
+        for (int column = 0; column < kSize; ++column) {
+          depth.at<float>(row, column) = seen ? z : NAN;
+          rgb.at<cv::Vec3b>(row, column) = cv::Vec3b(shade, shade * 0.8, shade * 0.6);
+        }
+      }
+      addNoise(rgb, static_cast<int>(100 * height_m + 10 * pitch_rad));
+      EXPECT_EQ(estimatedPixels(rgb, depth), 0)
+          << "a floor seen from " << height_m << " m, pitched " << pitch_rad << " rad";
+    }
+  }
+}
+
+/// Start views of embedded-object scenes in the void, ideal depth, 60 deg at 4 m (the paper's
+/// setting): each starts with occlusion (Environment::reset draws until it does).
+class SimulatedViews : public ::testing::Test {
+ protected:
+  static EnvironmentOptions options() {
+    EnvironmentOptions options;
+    options.width = kSize;
+    options.height = kSize;
+    return options;
+  }
+  Environment env_{options()};
+};
+
+/// `image` moved by (dx, dy) px; uncovered pixels get `fill` (the void: black, no depth).
+cv::Mat shifted(const cv::Mat& image, int dx, int dy, const cv::Scalar& fill) {
+  const cv::Mat translation = (cv::Mat_<double>(2, 3) << 1, 0, dx, 0, 1, dy);
+  cv::Mat moved;
+  cv::warpAffine(image, moved, translation, image.size(), cv::INTER_NEAREST, cv::BORDER_CONSTANT,
+                 fill);
+  return moved;
+}
+
+TEST_F(SimulatedViews, OneObjectAloneIsNotOcclusion) {
+  int checked = 0;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const StepResult start = env_.reset(seed);
+    const Observation& view = *start.observation;
+    // An object nothing hides (its visible pixels are its whole silhouette) looks as it would
+    // alone; everything else becomes the void.
+    for (int k = 0; k < 8; ++k) {
+      const cv::Mat visible = view.instance == k + 1;
+      const int visible_px = cv::countNonZero(visible);
+      cv::Mat bit;
+      cv::bitwise_and(view.amodal_bits, cv::Scalar(1 << k), bit);
+      if (visible_px < 200 || cv::countNonZero(bit) != visible_px) continue;
+      cv::Mat rgb(view.rgb.size(), CV_8UC3, cv::Scalar::all(0));
+      cv::Mat depth(view.depth.size(), CV_32FC1, cv::Scalar(NAN));
+      view.rgb.copyTo(rgb, visible);
+      view.depth.copyTo(depth, visible);
+      EXPECT_EQ(estimatedPixels(rgb, depth), 0) << "object " << k << " of scene " << seed << " alone";
+      ++checked;
+      break;
+    }
+  }
+  EXPECT_GE(checked, 4) << "too few scenes with an object nothing hides";
+}
+
+TEST_F(SimulatedViews, MovedContentMovesTheEstimate) {
+  int checked = 0;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    const StepResult start = env_.reset(seed);
+    if (start.info.occlusion.total_pixels < 150) continue;  // little to see moving
+    const Observation& view = *start.observation;
+    cv::Mat mask;
+    const std::int64_t estimated = estimatedPixels(view.rgb, view.depth, &mask);
+    ASSERT_GE(estimated, 20) << "scene " << seed << " starts with "
+                             << start.info.occlusion.total_pixels
+                             << " px of occlusion, estimated at " << estimated;
+    ++checked;
+    const cv::Mat expected_all = shifted(mask, 12, -8, cv::Scalar(0));
+    cv::Mat moved_mask;
+    estimatedPixels(shifted(view.rgb, 12, -8, cv::Scalar::all(0)),
+                    shifted(view.depth, 12, -8, cv::Scalar(NAN)), &moved_mask);
+    // Compare where both frames show the scene.
+    const cv::Rect both(12, 0, kSize - 12, kSize - 8);
+    const cv::Mat expected = expected_all(both) > 0, got = moved_mask(both) > 0;
+    const double overlap = cv::countNonZero(expected & got);
+    const double either = cv::countNonZero(expected | got);
+    EXPECT_GE(overlap / std::max(1.0, either), 0.8)
+        << "scene " << seed << ": estimated " << estimated << " px, moved " << cv::countNonZero(got)
+        << " px, IoU " << overlap / std::max(1.0, either);
+  }
+  EXPECT_GE(checked, 4) << "too few scenes with 150 px of occlusion or more";
+}
+
+}  // namespace
+}  // namespace learning
+}  // namespace occlusion_env
