@@ -146,7 +146,9 @@ def main():
         writer.writeheader()
         writer.writerows(truth_rows)
     summary = {"scenes": args.scenes, "episodes": len(seeds), "world": args.world,
-               "depth_sensor": args.depth_sensor, "model": args.model or "shipped default",
+               "depth_sensor": args.depth_sensor,
+               "model": os.path.relpath(os.path.abspath(args.model), ROOT) if args.model
+               else "shipped default",
                "truly_clear": clear, "verdict_agrees": agree,
                "mean_steps": statistics.mean(steps), "oracle_mean_steps": statistics.mean(oracle),
                "steps_over_oracle": statistics.mean(steps) / statistics.mean(oracle)}

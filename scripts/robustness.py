@@ -205,6 +205,18 @@ def main():
         write_section(args, models, table)
 
 
+def bridge_commands(paths):
+    """The scripts/bridge_evaluation.py command behind each bridge summary."""
+    commands = []
+    for path in paths:
+        with open(os.path.join(path, "bridge_summary.json")) as f:
+            b = json.load(f)
+        model = "" if b["model"] == "shipped default" else " --model " + b["model"]
+        commands.append("scripts/bridge_evaluation.py --world %s --depth-sensor %s%s --out %s"
+                        % (b["world"], b["depth_sensor"], model, os.path.relpath(path, ROOT)))
+    return commands
+
+
 def write_section(args, models, table):
     """The report as EVALUATION.md's section: what was measured, how, and the table and plot."""
     folder = os.path.dirname(os.path.abspath(args.section))
@@ -221,7 +233,14 @@ def write_section(args, models, table):
         "sets, whose test seeds draw the room, the sensor's noise and, randomised, the camera "
         "(`occlusion_eval --scenes ... --world W --depth-sensor S` or `--randomize`). Regenerate "
         "with:" % (args.scenes * args.frames, args.scenes, args.frames, args.first_seed), "",
-        "```", " ".join(command), "```", "", table,
+        "```", " ".join(command)] + bridge_commands(args.bridge) + ["```", "",
+        "The models: " + ", ".join("`%s` (`%s`)" % m for m in models) + "; how each was made: "
+        "[doc/TRAINING.md](doc/TRAINING.md#training-for-real-cameras). The bridge rows run the "
+        "stand-in camera, the bridge and the agent node over ROS and read the stand-in's truth "
+        "where each episode ended ([doc/CAMERA_BRIDGE.md](doc/CAMERA_BRIDGE.md)); the oracle's "
+        "steps are its episodes on the same scenes in `doc/evaluation/test_sweethome3d_episodes.csv` "
+        "(in the void: it reads the scene, not the camera).", "",
+        table,
         "![robustness](%s)" % os.path.relpath(image, ROOT), ""]
     with open(args.section, "w") as f:
         f.write("\n".join(text))
