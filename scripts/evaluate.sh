@@ -25,8 +25,8 @@ mkdir -p "$out"
 "$root/scripts/check_through_ros.sh" "$root/config/scenes/test_sweethome3d.yaml" \
     "$out/test_sweethome3d_episodes.csv" "$report"
 # Sections measured by their own, longer runs (the command that regenerates each is in it):
-# doc/robustness/*.md, written by scripts/robustness.py --section.
-for section in "$root"/doc/robustness/*.md; do
+# doc/robustness/*.md.in, written by scripts/robustness.py --section.
+for section in "$root"/doc/robustness/*.md.in; do
   [[ -f "$section" ]] || continue
   { echo; cat "$section"; } >> "$report"
 done

@@ -175,7 +175,8 @@ def main():
                              "report; repeatable")
     parser.add_argument("--section", default="",
                         help="also write the report as a Markdown section to this file (for "
-                             "scripts/evaluate.sh, which appends doc/robustness/*.md)")
+                             "scripts/evaluate.sh, which appends doc/robustness/*.md.in; links relative to the "
+                             "repository's root, as in EVALUATION.md)")
     args = parser.parse_args()
     models = [tuple(m.split("=", 1)) for m in args.model]
     if any(len(m) != 2 for m in models):
@@ -220,7 +221,7 @@ def bridge_commands(paths):
 def write_section(args, models, table):
     """The report as EVALUATION.md's section: what was measured, how, and the table and plot."""
     folder = os.path.dirname(os.path.abspath(args.section))
-    image = os.path.join(folder, os.path.splitext(os.path.basename(args.section))[0] + ".png")
+    image = os.path.join(folder, os.path.basename(args.section).split(".")[0] + ".png")
     os.replace(os.path.join(args.out, "robustness.png"), image)
     command = ["scripts/robustness.py"] + ["--model %s=%s" % m for m in models]
     command += ["--bridge %s" % b for b in args.bridge] + ["--out OUT", "--section " + args.section]
