@@ -153,7 +153,7 @@ def bridge_rows(paths):
             b = json.load(f)
         n = b["episodes"]
         lines.append("| %s | %s | %s, %s | %d / %d (%.0f %%) | %d / %d (%.0f %%) | %.2f | %.2f | %.2f |"
-                     % (os.path.basename(b["model"]), os.path.basename(b["scenes"]), b["world"],
+                     % (b["model"], os.path.basename(b["scenes"]), b["world"],
                         b["depth_sensor"], b["truly_clear"], n, 100.0 * b["truly_clear"] / n,
                         b["verdict_agrees"], n, 100.0 * b["verdict_agrees"] / n, b["mean_steps"],
                         b["oracle_mean_steps"], b["steps_over_oracle"]))
