@@ -322,47 +322,40 @@ nlohmann::json cameraRandomizationJson(const EnvironmentOptions& options) {
 
 const OptionTable<DatasetOptions>& datasetOptionTable() {
   using O = DatasetOptions;
-  static const auto table =
-      OptionTable<O>()
-          .add("scenes", &O::scenes, OptionSpec("number of scenes (N_s)").range(1, 1000000))
-          .add("frames", &O::frames, OptionSpec("frames per scene (N_i)").range(1, 100000))
-          .add("first_seed", &O::first_seed,
-               OptionSpec("scene seeds first_seed .. first_seed + scenes - 1 (training seeds)"))
-          .add("size", &O::size, OptionSpec("image width and height").unit("px").range(64, 1024))
-          .add("source", &O::source,
-               OptionSpec("object catalogue").choices({"embedded", "sweethome3d", "folder"}))
-          .add("catalog_paths", &O::catalog_paths,
-               OptionSpec("a .sh3f file or folder (sweethome3d), the root (folder)")
-                   .flag("--path")
-                   .repeatable())
-          .add("categories", &O::categories,
-               OptionSpec("draw objects of these categories only (empty: any)")
-                   .flag("--category")
-                   .repeatable())
-          .add("num_objects", &O::num_objects,
-               OptionSpec("objects per scene").range(2, kMaxSceneObjects).flag("--objects"))
-          .add("max_move_steps", &O::max_move_steps,
-               OptionSpec("longest move between frames, in steps").range(1, 100))
-          .add("oracle_labels", &O::oracle_labels,
-               OptionSpec("the oracle's labels (leaving them out is much faster)")
-                   .negatedFlag("--no-oracle"))
-          .add("world", &O::world,
-               OptionSpec("around the targets (unset: void, or random with --randomize)")
-                   .choices({"void", "room", "random"}))
-          .add("depth_sensor", &O::depth_sensor,
-               OptionSpec("the camera's depth sensor; the frames are what it gives (unset: "
-                          "ideal, or random with --randomize)")
-                   .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
-          .add("randomize", &O::randomize,
-               OptionSpec("draw per scene the camera (radius, field of view, resolution, "
-                          "intrinsics) and, unless given, world and depth sensor; recorded in "
-                          "each frame's labels"))
-          .add("validation_fraction", &O::validation_fraction,
-               OptionSpec("fraction of whole scenes for validation")
-                   .range(0, 0.5)
-                   .flag("--validation"))
-          .add("threads", &O::threads,
-               OptionSpec("worker threads, one environment each").range(1, 64));
+  static const auto table = [] {
+    OptionTable<O> options;
+    options.add("scenes", &O::scenes, OptionSpec("number of scenes (N_s)").range(1, 1000000))
+        .add("frames", &O::frames, OptionSpec("frames per scene (N_i)").range(1, 100000))
+        .add("first_seed", &O::first_seed,
+             OptionSpec("scene seeds first_seed .. first_seed + scenes - 1 (training seeds)"))
+        .add("size", &O::size, OptionSpec("image width and height").unit("px").range(64, 1024))
+        .add("source", &O::source,
+             OptionSpec("object catalogue").choices({"embedded", "sweethome3d", "folder"}))
+        .add("catalog_paths", &O::catalog_paths,
+             OptionSpec("a .sh3f file or folder (sweethome3d), the root (folder)")
+                 .flag("--path")
+                 .repeatable())
+        .add("categories", &O::categories,
+             OptionSpec("draw objects of these categories only (empty: any)")
+                 .flag("--category")
+                 .repeatable())
+        .add("num_objects", &O::num_objects,
+             OptionSpec("objects per scene").range(2, kMaxSceneObjects).flag("--objects"))
+        .add("max_move_steps", &O::max_move_steps,
+             OptionSpec("longest move between frames, in steps").range(1, 100))
+        .add("oracle_labels", &O::oracle_labels,
+             OptionSpec("the oracle's labels (leaving them out is much faster)")
+                 .negatedFlag("--no-oracle"));
+    addSceneRandomizationOptions(options, &O::world, &O::depth_sensor, &O::randomize);
+    options
+        .add("validation_fraction", &O::validation_fraction,
+             OptionSpec("fraction of whole scenes for validation")
+                 .range(0, 0.5)
+                 .flag("--validation"))
+        .add("threads", &O::threads,
+             OptionSpec("worker threads, one environment each").range(1, 64));
+    return options;
+  }();
   return table;
 }
 

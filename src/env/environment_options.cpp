@@ -165,7 +165,7 @@ void addWorldAndSensor(OptionTable<Options>& table) {
           OptionSpec("around the targets: void (the paper's black), room (floor, walls, ceiling, "
                      "clutter, surfaces and light drawn per scene) or random (one of the two "
                      "drawn per scene)")
-              .choices({"void", "room", "random"}))
+              .choices(worldChoices()))
       .add(
           "clutter", [](Options& o) -> int& { return o.world.clutter; },
           OptionSpec("background catalogue objects per room, outside the camera's sphere (never "
@@ -175,7 +175,7 @@ void addWorldAndSensor(OptionTable<Options>& table) {
           "depth_sensor", [](Options& o) -> std::string& { return o.sensor.depth_sensor; },
           OptionSpec("the camera's depth-sensor model; not ideal: colour noise, exposure, white "
                      "balance and blur too (doc/SENSORS.md); random: one drawn per scene")
-              .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
+              .choices(depthSensorChoices()))
       .add(
           "sensor_parameters", [](Options& o) -> std::string& { return o.sensor.parameters_file; },
           OptionSpec("YAML of the sensor models' parameters (empty: built in, = "

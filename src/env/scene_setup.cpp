@@ -109,6 +109,17 @@ SceneSetup drawSceneSetup(const EnvironmentOptions& options, std::uint64_t seed)
   return setup;
 }
 
+const std::vector<std::string>& worldChoices() {
+  static const std::vector<std::string> choices = {"void", "room", kRandomChoice};
+  return choices;
+}
+
+const std::vector<std::string>& depthSensorChoices() {
+  static const std::vector<std::string> choices = {"ideal", "kinect_v1", "realsense_d435",
+                                                   "azure_kinect", kRandomChoice};
+  return choices;
+}
+
 void applySceneRandomization(EnvironmentOptions& options, const std::optional<std::string>& world,
                              const std::optional<std::string>& depth_sensor, bool randomize) {
   options.camera_randomization.enabled = randomize;

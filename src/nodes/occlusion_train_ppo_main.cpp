@@ -62,17 +62,8 @@ void addEnvironmentArguments(OptionTable<CommandLine>& table) {
       .add("resolution", &C::resolution,
            OptionSpec("in-process image size (as the evaluation)").unit("px").range(64, 1024))
       .add("max_steps", &C::max_steps,
-           OptionSpec("episode length before truncation").range(1, 100000))
-      .add("world", &C::world,
-           OptionSpec("in-process: around the targets (unset: void, or random with --randomize)")
-               .choices({"void", "room", "random"}))
-      .add("depth_sensor", &C::depth_sensor,
-           OptionSpec("in-process: the camera's depth sensor (unset: ideal, or random with "
-                      "--randomize)")
-               .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
-      .add("randomize", &C::randomize,
-           OptionSpec("in-process: draw per scene the camera (radius, field of view, resolution, "
-                      "intrinsics) and, unless given, world and depth sensor (doc/SENSORS.md)"));
+           OptionSpec("episode length before truncation").range(1, 100000));
+  addSceneRandomizationOptions(table, &C::world, &C::depth_sensor, &C::randomize, "in-process: ");
 }
 
 void addRecipeArguments(OptionTable<CommandLine>& table) {

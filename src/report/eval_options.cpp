@@ -1,6 +1,8 @@
 // The one translation unit of the report library that sees libtorch (the learned agents).
 #include "occlusion_env/report/eval_options.hpp"
 
+#include "occlusion_env/env/scene_setup.hpp"
+
 #include <iostream>
 #include <string>
 #include <vector>
@@ -59,22 +61,13 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                .range(1, eval::kSweepSeedSearch))
       .add("model", &O::model,
            OptionSpec("the model of the agents that need one (\"\": each one's shipped model)"))
-      .add("world", &O::world,
-           OptionSpec("with --scenes: around the targets (unset: void, or random with "
-                      "--randomize), drawn from each scene's seed")
-               .choices({"void", "room", "random"}))
-      .add("depth_sensor", &O::depth_sensor,
-           OptionSpec("with --scenes: the camera's depth sensor, what the agents see (unset: "
-                      "ideal, or random with --randomize)")
-               .choices({"ideal", "kinect_v1", "realsense_d435", "azure_kinect", "random"}))
-      .add("randomize", &O::randomize,
-           OptionSpec("with --scenes: draw per scene the camera (radius, field of view, "
-                      "resolution, intrinsics) and, unless given, world and depth sensor"))
       .add("through_bridge", &O::through_bridge,
            OptionSpec("with --scenes: \"\" runs on the simulator; else through the camera "
                       "bridge's logic in front of it (doc/CAMERA_BRIDGE.md), this network model "
                       "estimating the occlusion, the simulator's truth scoring where each episode "
                       "ended (OUT/<set>_bridge_*)"));
+  addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
+                               "with --scenes: ");
 }
 
 void addOutputOptions(OptionTable<EvalOptions>& table) {

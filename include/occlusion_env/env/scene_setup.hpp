@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 
 namespace occlusion_env {
@@ -19,6 +20,10 @@ struct EnvironmentOptions;
 
 /// The `world` and `depth_sensor` value that draws one per scene.
 constexpr const char* kRandomChoice = "random";
+
+/// The values `world` and `depth_sensor` take (kRandomChoice included), for every option table.
+const std::vector<std::string>& worldChoices();
+const std::vector<std::string>& depthSensorChoices();
 
 /// Per-scene draws of the camera (environment options `randomize_camera`, ...). The scene keeps
 /// the options' geometry (camera at `radius` in the scene's own units) and is scaled by
@@ -58,5 +63,26 @@ SceneSetup drawSceneSetup(const EnvironmentOptions& options, std::uint64_t seed)
 /// per scene and, where `world` / `depth_sensor` are not given, the world and the sensor too.
 void applySceneRandomization(EnvironmentOptions& options, const std::optional<std::string>& world,
                              const std::optional<std::string>& depth_sensor, bool randomize);
+
+/// Adds those three options (world, depth_sensor, randomize: --world, --depth-sensor,
+/// --randomize) to a tool's table; `scope` begins each help text (e.g. "with --scenes: ").
+template <class O>
+OptionTable<O>& addSceneRandomizationOptions(OptionTable<O>& table,
+                                             std::optional<std::string> O::*world,
+                                             std::optional<std::string> O::*depth_sensor,
+                                             bool O::*randomize, const std::string& scope = "") {
+  return table
+      .add("world", world,
+           OptionSpec(scope + "around the targets (unset: void, or random with --randomize), " +
+                      "drawn from each scene's seed")
+               .choices(worldChoices()))
+      .add("depth_sensor", depth_sensor,
+           OptionSpec(scope + "the camera's depth sensor; the images are what it gives (unset: " +
+                      "ideal, or random with --randomize)")
+               .choices(depthSensorChoices()))
+      .add("randomize", randomize,
+           OptionSpec(scope + "draw per scene the camera (radius, field of view, resolution, " +
+                      "intrinsics) and, unless given, world and depth sensor (doc/SENSORS.md)"));
+}
 
 }  // namespace occlusion_env
