@@ -85,15 +85,7 @@ StepResult EnvironmentClient::resultFor(const CameraObservation& message) {
 
 StepResult EnvironmentClient::reset(std::uint64_t seed, const ResetOptions& overrides) {
   if (!connected_) connect();
-  Reset::Request& request = reset_call_.request;
-  request.seed = seed;
-  request.preset = overrides.preset.value_or("");
-  request.object_ids = overrides.object_ids;
-  request.categories = overrides.categories;
-  request.set_start_azimuth = overrides.start_azimuth_rad.has_value();
-  request.start_azimuth = overrides.start_azimuth_rad.value_or(0.0);
-  request.set_start_elevation = overrides.start_elevation_rad.has_value();
-  request.start_elevation = overrides.start_elevation_rad.value_or(0.0);
+  reset_call_.request = toResetRequest(seed, overrides);
   // Nothing of an episode is lost when a reset fails in transit (e.g. to a simulator still
   // shutting down after a crash): reconnect and try again, a few times.
   for (int attempt = 1; !reset_client_.call(reset_call_); ++attempt) {
