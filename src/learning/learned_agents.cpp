@@ -20,7 +20,7 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
 void NetworkDirectionAgent::reset(std::uint64_t) {}
 
 Action NetworkDirectionAgent::act(const Observation& observation, const StepInfo&) {
-  writeNetworkInput(observation.rgb, observation.depth, model_->network->config().input_size,
+  writeNetworkInput(observation.rgb, observation.depth, model_->network->config().inputFormat(),
                     scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.

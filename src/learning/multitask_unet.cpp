@@ -36,12 +36,17 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
   static const auto table =
       OptionTable<NetworkConfig>()
           .add("variant", &NetworkConfig::variant,
-               OptionSpec("the network (Table 3)").choices({"unet", "r_unet", "sr_unet", "sar_unet"}))
+               OptionSpec("the network (Table 3)")
+                   .choices({"unet", "r_unet", "sr_unet", "sar_unet"}))
           .add("input_size", &NetworkConfig::input_size,
                OptionSpec("network input size, a multiple of 2^levels (32)")
                    .unit("px")
                    .range(16, 512)
                    .flag("--size"))
+          .add("depth_gaps", &NetworkConfig::depth_gaps,
+               OptionSpec("how missing depth (a sensor's dropouts) enters: far = as the "
+                          "background; filled = from the valid pixels around (network_input.hpp)")
+                   .choices({"far", "filled"}))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -57,12 +62,17 @@ void NetworkConfig::validate() const {
   }
 }
 
+InputFormat NetworkConfig::inputFormat() const {
+  return {input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar};
+}
+
 nlohmann::json NetworkConfig::toJson() const {
   return networkConfigTable().toJson(*this);
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
+    if (key == "depth_gaps") continue;  // "far" when absent: recorded before it existed
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
   }
   NetworkConfig config;

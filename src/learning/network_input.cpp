@@ -7,40 +7,110 @@
 
 namespace occlusion_env {
 namespace learning {
+namespace {
 
-void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, int size, InputScratch& scratch,
-                       float* out) {
-  if (rgb.type() != CV_8UC3 || depth.type() != CV_32FC1 || rgb.size() != depth.size() ||
-      rgb.empty()) {
-    throw InvalidArgumentError("network input: needs CV_8UC3 RGB and CV_32FC1 depth of one size");
+constexpr float kFar = static_cast<float>(kFarDepthM);
+constexpr int kMinValidNeighbours = 4;  // of 8, for a gap to be filled (DepthGaps::kFilled)
+
+float normalisedDepth(float metres) {
+  return (metres / kFar - 0.5f) / 0.25f;
+}
+
+// `source` resized to `target` by area averaging, or `source` itself at that size already.
+void resizeTo(const cv::Mat& source, const cv::Size& target, cv::Mat& resized) {
+  if (source.size() == target) {
+    resized = source;
+  } else {
+    cv::resize(source, resized, target, 0, 0, cv::INTER_AREA);
   }
+}
+
+// DepthGaps::kFar: missing = far, then averaged.
+void writeDepthFar(const cv::Mat& depth, int size, InputScratch& scratch, float* out) {
   scratch.depth_filled.create(depth.size(), CV_32FC1);
   for (int row = 0; row < depth.rows; ++row) {
     const float* in = depth.ptr<float>(row);
     float* filled = scratch.depth_filled.ptr<float>(row);
     for (int col = 0; col < depth.cols; ++col) {
       const float d = in[col];
-      filled[col] =
-          std::isfinite(d) ? std::min(std::max(d, 0.0f), float(kFarDepthM)) : float(kFarDepthM);
+      filled[col] = std::isfinite(d) ? std::min(std::max(d, 0.0f), kFar) : kFar;
+    }
+  }
+  resizeTo(scratch.depth_filled, cv::Size(size, size), scratch.depth_small);
+  for (int row = 0; row < size; ++row) {
+    const float* depths = scratch.depth_small.ptr<float>(row);
+    for (int col = 0; col < size; ++col) out[row * size + col] = normalisedDepth(depths[col]);
+  }
+}
+
+// The mean depth of the valid 8-neighbours of (row, col) at the network's size, or far when
+// fewer than kMinValidNeighbours are valid.
+float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row, int col) {
+  int count = 0;
+  float sum = 0.0f;
+  for (int r = std::max(0, row - 1); r <= std::min(depth_sum.rows - 1, row + 1); ++r) {
+    for (int c = std::max(0, col - 1); c <= std::min(depth_sum.cols - 1, col + 1); ++c) {
+      const float fraction = valid_fraction.at<float>(r, c);
+      if (fraction <= 0.0f) continue;  // (row, col) itself included: it has none
+      sum += depth_sum.at<float>(r, c) / fraction;
+      ++count;
+    }
+  }
+  return count >= kMinValidNeighbours ? sum / count : kFar;
+}
+
+// DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours.
+void writeDepthFilled(const cv::Mat& depth, int size, InputScratch& scratch, float* out) {
+  scratch.depth_filled.create(depth.size(), CV_32FC1);
+  scratch.valid.create(depth.size(), CV_32FC1);
+  for (int row = 0; row < depth.rows; ++row) {
+    const float* in = depth.ptr<float>(row);
+    float* filled = scratch.depth_filled.ptr<float>(row);
+    float* valid = scratch.valid.ptr<float>(row);
+    for (int col = 0; col < depth.cols; ++col) {
+      const float d = in[col];
+      const bool seen = std::isfinite(d) && d > 0.0f;
+      filled[col] = seen ? std::min(d, kFar) : 0.0f;
+      valid[col] = seen ? 1.0f : 0.0f;
     }
   }
   const cv::Size target(size, size);
-  if (rgb.size() == target) {
-    scratch.rgb_small = rgb;
-    scratch.depth_small = scratch.depth_filled;
-  } else {
-    cv::resize(rgb, scratch.rgb_small, target, 0, 0, cv::INTER_AREA);
-    cv::resize(scratch.depth_filled, scratch.depth_small, target, 0, 0, cv::INTER_AREA);
+  resizeTo(scratch.depth_filled, target, scratch.depth_small);  // the valid depths' sum / area
+  resizeTo(scratch.valid, target, scratch.valid_small);         // the valid fraction
+  for (int row = 0; row < size; ++row) {
+    const float* sums = scratch.depth_small.ptr<float>(row);
+    const float* fractions = scratch.valid_small.ptr<float>(row);
+    for (int col = 0; col < size; ++col) {
+      const float metres = fractions[col] > 0.0f
+                               ? sums[col] / fractions[col]
+                               : filledGap(scratch.depth_small, scratch.valid_small, row, col);
+      out[row * size + col] = normalisedDepth(metres);
+    }
   }
+}
+
+}  // namespace
+
+void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
+                       InputScratch& scratch, float* out) {
+  if (rgb.type() != CV_8UC3 || depth.type() != CV_32FC1 || rgb.size() != depth.size() ||
+      rgb.empty()) {
+    throw InvalidArgumentError("network input: needs CV_8UC3 RGB and CV_32FC1 depth of one size");
+  }
+  const int size = format.size;
+  resizeTo(rgb, cv::Size(size, size), scratch.rgb_small);
   const std::size_t plane = static_cast<std::size_t>(size) * size;
   for (int row = 0; row < size; ++row) {
     const cv::Vec3b* pixels = scratch.rgb_small.ptr<cv::Vec3b>(row);
-    const float* depths = scratch.depth_small.ptr<float>(row);
     for (int col = 0; col < size; ++col) {
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
       for (int c = 0; c < 3; ++c) out[c * plane + i] = (pixels[col][c] / 255.0f - 0.5f) / 0.25f;
-      out[3 * plane + i] = (depths[col] / float(kFarDepthM) - 0.5f) / 0.25f;
     }
+  }
+  if (format.depth_gaps == DepthGaps::kFilled) {
+    writeDepthFilled(depth, size, scratch, out + 3 * plane);
+  } else {
+    writeDepthFar(depth, size, scratch, out + 3 * plane);
   }
 }
 

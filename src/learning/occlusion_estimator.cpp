@@ -26,7 +26,8 @@ OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
                                                cv::Mat& mask) {
   const int size = model_->network->config().input_size;
-  writeNetworkInput(rgb, depth, size, scratch_, input_.data_ptr<float>());
+  writeNetworkInput(rgb, depth, model_->network->config().inputFormat(), scratch_,
+                    input_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor logits = model_->network->forward(input_).occlusion_logits.contiguous();
   const float* logit = logits.data_ptr<float>();

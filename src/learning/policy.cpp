@@ -200,7 +200,7 @@ void PolicyAgent::reset(std::uint64_t) {
 
 Action PolicyAgent::act(const Observation& observation, const StepInfo& info) {
   auto& network = policy_->network;
-  writeNetworkInput(observation.rgb, observation.depth, network->backbone()->config().input_size,
+  writeNetworkInput(observation.rgb, observation.depth, network->backbone()->config().inputFormat(),
                     scratch_, input_.data_ptr<float>());
   writeRigInput(last_move_, info.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;

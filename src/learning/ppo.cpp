@@ -213,6 +213,7 @@ class PpoTrainer {
     fs::create_directories(run_dir_);
     LoadedModel pretrained = loadModel(options_.backbone_path);
     input_size_ = pretrained.network->config().input_size;
+    input_format_ = pretrained.network->config().inputFormat();
     policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
     policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
     if (options_.policy.learned_std) {
@@ -319,8 +320,8 @@ class PpoTrainer {
   // On environment i's thread: its observation into batch row i.
   void observe(int i, const StepResult& result) {
     const std::size_t plane = 4 * static_cast<std::size_t>(input_size_) * input_size_;
-    writeNetworkInput(result.observation->rgb, result.observation->depth, input_size_, scratch_[i],
-                      inputs_.data_ptr<float>() + i * plane);
+    writeNetworkInput(result.observation->rgb, result.observation->depth, input_format_,
+                      scratch_[i], inputs_.data_ptr<float>() + i * plane);
     writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
                   rig_.data_ptr<float>() + i * kRigInputs);
   }
@@ -651,6 +652,7 @@ class PpoTrainer {
   std::string run_dir_;
   PpoCallbacks callbacks_;
   int input_size_ = 64;
+  InputFormat input_format_;  // the pretrained network's
   PolicyNetwork policy_{nullptr};
   std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
   Progress progress_;

@@ -43,7 +43,8 @@ Samples emptySamples(int64_t n, int size) {
 
 // Writes `frames` of `data` into `samples` from row `first` on.
 void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
-                 int size, Samples& samples, int64_t first) {
+                 const InputFormat& format, Samples& samples, int64_t first) {
+  const int size = format.size;
   const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
   const torch::Tensor input = torch::empty({4, size, size});
@@ -51,7 +52,7 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = first + k;
     const dataset::Frame& frame = *frames[k];
-    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), size, scratch,
+    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), format, scratch,
                       input.data_ptr<float>());
     samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
@@ -181,11 +182,12 @@ nlohmann::json withCanonicalPaths(nlohmann::json identity) {
 
 }  // namespace
 
-TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes) {
-  return loadTrainingData(std::vector<std::string>{dir}, size, max_scenes);
+TrainingData loadTrainingData(const std::string& dir, const InputFormat& format, int max_scenes) {
+  return loadTrainingData(std::vector<std::string>{dir}, format, max_scenes);
 }
 
-TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, int max_scenes) {
+TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
+                              int max_scenes) {
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
   std::vector<std::vector<const dataset::Frame*>> train(dirs.size()), validation(dirs.size());
@@ -227,19 +229,19 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, in
   out.dataset_manifest = datasets.front()->manifest();
   out.dataset_dir = dirs.front();
   out.extra_dataset_dirs.assign(dirs.begin() + 1, dirs.end());
-  out.train = emptySamples(train_count, size);
-  out.validation = emptySamples(validation_count, size);
+  out.train = emptySamples(train_count, format.size);
+  out.validation = emptySamples(validation_count, format.size);
   int64_t train_row = 0, validation_row = 0;
   for (std::size_t d = 0; d < dirs.size(); ++d) {
-    fillSamples(*datasets[d], train[d], size, out.train, train_row);
-    fillSamples(*datasets[d], validation[d], size, out.validation, validation_row);
+    fillSamples(*datasets[d], train[d], format, out.train, train_row);
+    fillSamples(*datasets[d], validation[d], format, out.validation, validation_row);
     train_row += static_cast<int64_t>(train[d].size());
     validation_row += static_cast<int64_t>(validation[d].size());
   }
   return out;
 }
 
-Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
+Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
                         const nlohmann::json& model_manifest) {
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   // The model's training datasets, as recorded (paths relative to where it was trained, which
@@ -265,12 +267,12 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
     count += static_cast<int64_t>(datasets.back()->frames().size());
   }
   if (count == 0) throw InvalidArgumentError("no frames in the dataset(s) from " + dirs.front());
-  Samples samples = emptySamples(count, size);
+  Samples samples = emptySamples(count, format.size);
   int64_t row = 0;
   for (const auto& data : datasets) {
     std::vector<const dataset::Frame*> frames;
     for (const dataset::Frame& frame : data->frames()) frames.push_back(&frame);
-    fillSamples(*data, frames, size, samples, row);
+    fillSamples(*data, frames, format, samples, row);
     row += static_cast<int64_t>(frames.size());
   }
   return samples;
@@ -409,9 +411,16 @@ namespace {
 nlohmann::json initialModelManifest(const TrainingOptions& options) {
   if (options.init_from.empty()) return nlohmann::json();
   nlohmann::json init_manifest = readManifest(options.init_from);
+  // The same weights' shapes: depth_gaps may differ (a network retrained on another input).
+  const auto architecture = [](const NetworkConfig& network) {
+    nlohmann::json json = network.toJson();
+    json.erase("depth_gaps");
+    return json;
+  };
   if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
       !init_manifest.contains("network") ||
-      NetworkConfig::fromJson(init_manifest.at("network")).toJson() != options.network.toJson()) {
+      architecture(NetworkConfig::fromJson(init_manifest.at("network"))) !=
+          architecture(options.network)) {
     throw InvalidArgumentError("--init-from " + options.init_from +
                                " is not a multi-task network like the one being trained (" +
                                options.network.toJson().dump() + ")");

@@ -108,7 +108,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   learning::LoadedModel model = learning::loadModel(model_path);
   const int size = model.network->config().input_size;
   std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";
-  const learning::Samples frames = learning::loadCheckFrames(data_dirs, size, model.manifest);
+  const learning::Samples frames =
+      learning::loadCheckFrames(data_dirs, model.network->config().inputFormat(), model.manifest);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
   const learning::EpochMetrics m = learning::evaluate(model.network, frames, 64, loss);
@@ -121,9 +122,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     result["figures"].erase(unused);
   }
   const std::string out =
-      out_path.empty()
-          ? std::filesystem::path(model_path).replace_extension(".check.json").string()
-          : out_path;
+      out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
+                       : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
@@ -178,7 +178,7 @@ int train(const Arguments& args) {
                                      : std::string())
             << " at " << options.network.input_size << " px...\n";
   const learning::TrainingData data =
-      learning::loadTrainingData(data_dirs, options.network.input_size, args.max_scenes);
+      learning::loadTrainingData(data_dirs, options.network.inputFormat(), args.max_scenes);
   std::cerr << "occlusion_train: " << data.train.size() << " training and "
             << data.validation.size() << " validation frames; " << options.network.variant << ", "
             << options.epochs << " epochs, checkpoints in " << args.run_dir << "\n";

@@ -330,6 +330,41 @@ TEST(LearningTest, NetworkInputFollowsTheConvention) {
                InvalidArgumentError);
 }
 
+// DepthGaps::kFilled: a depth sensor's dropouts inside a surface take the surface's depth; the
+// void around an object and a hole larger than a network pixel's neighbourhood stay far.
+TEST(LearningTest, FilledDepthGapsLookLikeTheSurfaceAroundThem) {
+  const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 90, 90));
+  cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(std::nanf("")));  // the void...
+  depth(cv::Rect(16, 16, 32, 32)).setTo(2.0f);                 // ...and a box 2 m away
+  cv::RNG random(7);
+  for (int k = 0; k < 300; ++k) {  // speckle on the box, and one whole 2 x 2 network pixel
+    depth.at<float>(16 + random.uniform(0, 32), 16 + random.uniform(0, 32)) = std::nanf("");
+  }
+  depth(cv::Rect(30, 30, 2, 2)).setTo(std::nanf(""));
+  depth(cv::Rect(20, 40, 8, 6)).setTo(std::nanf(""));  // a hole of 4 x 3 network pixels
+  InputScratch scratch;
+  std::vector<float> filled(4 * 32 * 32), far(4 * 32 * 32);
+  writeNetworkInput(rgb, depth, InputFormat(32, DepthGaps::kFilled), scratch, filled.data());
+  writeNetworkInput(rgb, depth, InputFormat(32, DepthGaps::kFar), scratch, far.data());
+  const auto at = [](const std::vector<float>& input, int row, int col) {
+    return input[3 * 32 * 32 + row * 32 + col];
+  };
+  const float two_metres = (2.0f / 8.0f - 0.5f) / 0.25f, void_far = (1.0f - 0.5f) / 0.25f;
+  int speckled = 0;
+  for (int row = 8; row < 24; ++row) {
+    for (int col = 8; col < 24; ++col) {
+      if (row >= 20 && row < 23 && col >= 10 && col < 14) continue;  // the hole
+      EXPECT_FLOAT_EQ(at(filled, row, col), two_metres) << row << ", " << col;
+      if (at(far, row, col) > two_metres + 1e-3f) ++speckled;
+    }
+  }
+  EXPECT_GT(speckled, 50) << "with far gaps, the speckle shows";
+  EXPECT_FLOAT_EQ(at(filled, 21, 12), void_far) << "a hole's middle stays far";
+  EXPECT_FLOAT_EQ(at(filled, 2, 2), void_far) << "the void stays far";
+  EXPECT_FLOAT_EQ(at(filled, 12, 7), void_far) << "beside the box's edge (3 of 8 neighbours on it)";
+  for (int i = 0; i < 3 * 32 * 32; ++i) ASSERT_EQ(filled[i], far[i]) << "colour as before";
+}
+
 // A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed).
 std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
   NetworkConfig config;

@@ -21,6 +21,7 @@
 #include <string>
 
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/learning/network_input.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -29,19 +30,22 @@ struct NetworkConfig {
   std::string variant = "unet";  // unet | r_unet | sr_unet | sar_unet
   int base_channels = 8;
   int levels = 5;
-  int input_size = 64;  // [px], a multiple of 2^levels
+  int input_size = 64;             // [px], a multiple of 2^levels
+  std::string depth_gaps = "far";  // far | filled: how missing depth enters (network_input.hpp)
 
   bool residual() const { return variant != "unet"; }
   bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
   int dilation() const { return variant == "sar_unet" ? 2 : 1; }
   int bottleneckChannels() const { return base_channels << levels; }
+  InputFormat inputFormat() const;
 
   /// Throws InvalidArgumentError naming the bad field: the table's ranges and choices, then
   /// input_size a multiple of 2^levels.
   void validate() const;
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
-  /// Refuses unknown names and a missing field (every manifest states the whole network).
+  /// Refuses unknown names and a missing field (every manifest states the whole network), but
+  /// depth_gaps, which models recorded before it existed lack: they are "far".
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 

@@ -2,10 +2,16 @@
 // resolution and normalised, as a 4 x S x S float tensor.
 //
 //   channels 0-2: RGB / 255, then (x - 0.5) / 0.25
-//   channel 3:    depth [m] clamped to [0, kFarDepthM] / kFarDepthM, NaN (nothing hit) = 1 (far),
-//                 then (x - 0.5) / 0.25
-// Resizing: area averaging (cv::INTER_AREA) after the NaNs are replaced, so a pixel at an
-// object's edge blends object and far background, as a real depth camera's does.
+//   channel 3:    depth [m] clamped to [0, kFarDepthM] / kFarDepthM, then (x - 0.5) / 0.25
+// Resizing: area averaging (cv::INTER_AREA). Missing depth (NaN: nothing hit, or a sensor's
+// dropout) enters as the model's DepthGaps says:
+//   far:    every missing pixel is far (kFarDepthM) before averaging, so a pixel at an object's
+//           edge blends object and far background (the models trained in the void, before
+//           depth-sensor models existed);
+//   filled: averaged over the valid pixels only; a network pixel with none takes the mean of its
+//           valid 8-neighbours when at least 4 of them are valid (a sensor's speckle and edge
+//           dropouts), else it is far (the void, large holes). A real depth camera's dropouts
+//           then look like the surface around them, not like holes to the background.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -15,15 +21,27 @@ namespace learning {
 
 constexpr double kFarDepthM = 8.0;  // beyond the sphere (r = 4 m) and every object
 
-/// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) at
-/// `size` x `size` into `out` (4 * size * size floats, channel-major). `scratch` holds the
-/// resized images between calls (no allocation once sized). Throws InvalidArgumentError on wrong
-/// types or sizes.
-struct InputScratch {
-  cv::Mat depth_filled, rgb_small, depth_small;
+enum class DepthGaps { kFar, kFilled };
+
+/// The network's input: its size and how missing depth enters (NetworkConfig::inputFormat()).
+struct InputFormat {
+  // From a size alone (implicitly): the input of the models before DepthGaps existed.
+  InputFormat(int size_px = 64, DepthGaps gaps = DepthGaps::kFar)  // NOLINT(runtime/explicit)
+      : size(size_px), depth_gaps(gaps) {}
+  int size;  // [px], width and height
+  DepthGaps depth_gaps;
 };
-void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, int size, InputScratch& scratch,
-                       float* out);
+
+/// The resized images between calls (no allocation once sized).
+struct InputScratch {
+  cv::Mat depth_filled, valid, rgb_small, depth_small, valid_small;
+};
+
+/// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
+/// `format` into `out` (4 * size * size floats, channel-major). Throws InvalidArgumentError on
+/// wrong types or sizes.
+void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
+                       InputScratch& scratch, float* out);
 
 }  // namespace learning
 }  // namespace occlusion_env

@@ -38,22 +38,24 @@ struct TrainingData {
   std::vector<std::string> extra_dataset_dirs;  // further datasets, if any
 };
 
-/// Reads every complete scene of the dataset in `dir` at `size` px, split by the manifest's
-/// scene-wise train/val split; `max_scenes` > 0 keeps only the first ones. Refuses datasets with
-/// test seeds or models outside the train split (InvalidArgumentError).
-TrainingData loadTrainingData(const std::string& dir, int size, int max_scenes = 0);
+/// Reads every complete scene of the dataset in `dir` as the network sees it (`format`), split by
+/// the manifest's scene-wise train/val split; `max_scenes` > 0 keeps only the first ones. Refuses
+/// datasets with test seeds or models outside the train split (InvalidArgumentError).
+TrainingData loadTrainingData(const std::string& dir, const InputFormat& format,
+                              int max_scenes = 0);
 
 /// The same for several datasets (dirs[0] first), each split by its own manifest: e.g. a
 /// dataset with oracle labels and a larger one without them made with `--validation 0`, which
 /// adds training frames and leaves the validation frames as they were. Also refuses a scene seed
 /// that is in two of them. `max_scenes` applies to each.
-TrainingData loadTrainingData(const std::vector<std::string>& dirs, int size, int max_scenes = 0);
+TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
+                              int max_scenes = 0);
 
 /// Every frame (of training and validation scenes alike) of datasets that a model was not trained
 /// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
 /// Refuses (InvalidArgumentError) a dataset that `model_manifest` lists as trained on (by path)
 /// or whose options equal those of the model's first dataset.
-Samples loadCheckFrames(const std::vector<std::string>& dirs, int size,
+Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
                         const nlohmann::json& model_manifest);
 
 struct TrainingOptions {
@@ -86,8 +88,8 @@ struct TrainingOptions {
 };
 
 /// Moves each frame of `inputs` (N x 4 x S x S, learning/network_input.hpp) and its mask (N x 1 x S
-/// x S) by whole pixels drawn uniformly from [-shift * S, shift * S] in x and y (torch's generator);
-/// the uncovered border becomes the void's input (black, no depth) and mask 0.
+/// x S) by whole pixels drawn uniformly from [-shift * S, shift * S] in x and y (torch's
+/// generator); the uncovered border becomes the void's input (black, no depth) and mask 0.
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift);
 
 /// The declared options of TrainingOptions but the network (networkConfigTable()), by their
