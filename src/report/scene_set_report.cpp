@@ -123,7 +123,7 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
 std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   EvaluationPlan plan;
   plan.scenes = loadSceneSet(scenes_path);
-  requireDisjoint(plan.scenes, kTrainingSeedRange);
+  requireDisjoint(plan.scenes, kTrainerSeedRange);
   if (cl.limit && static_cast<std::size_t>(*cl.limit) < plan.scenes.seeds.size()) {
     plan.scenes.seeds.resize(*cl.limit);
   }

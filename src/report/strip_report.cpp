@@ -133,7 +133,7 @@ std::string stripMarkdown(const SceneSet& set, std::uint64_t seed,
 
 std::string runStrip(const EvalOptions& cl, const std::string& scenes_path) {
   const SceneSet set = loadSceneSet(scenes_path);
-  requireDisjoint(set, kTrainingSeedRange);
+  requireDisjoint(set, kTrainerSeedRange);
   if (set.seeds.empty()) throw InvalidArgumentError(scenes_path + ": no seeds");
   const std::vector<std::string> agents =
       cl.agents.size() >= 2 ? cl.agents : std::vector<std::string>{"gradient", "predicted_escape"};

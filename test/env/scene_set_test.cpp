@@ -19,6 +19,19 @@ std::string writeTemporary(const std::string& name, const std::string& text) {
   return path.string();
 }
 
+// Evaluations refuse the seeds trainers draw from, and take the validation set's.
+TEST(SceneSet, TheValidationSetIsAboveEveryTrainersSeeds) {
+  const SceneSet validation = loadSceneSet("config/scenes/validation_sweethome3d.yaml");
+  EXPECT_EQ(validation.seeds.size(), 50u);
+  EXPECT_EQ(validation.model_split, "train");
+  EXPECT_NO_THROW(requireDisjoint(validation, kTrainerSeedRange));
+  EXPECT_THROW(requireDisjoint(validation, kTrainingSeedRange), InvalidArgumentError);
+  EXPECT_NO_THROW(requireDisjoint(validation, loadSceneSet("config/scenes/test_sweethome3d.yaml")));
+  SceneSet drawn = validation;
+  drawn.seeds = {kFirstValidationSeed - 1};
+  EXPECT_THROW(requireDisjoint(drawn, kTrainerSeedRange), InvalidArgumentError);
+}
+
 TEST(SceneSet, ShippedTestSetsAreFiftyTestSeedsAtAzimuthZero) {
   for (const char* file :
        {"config/scenes/test_embedded.yaml", "config/scenes/test_sweethome3d.yaml"}) {

@@ -29,6 +29,9 @@ inline constexpr SeedRange kTrainingSeedRange{0, kFirstTestSeed};
 /// Validation scenes (choosing hyper-parameters): the top of the training range, which trainers
 /// that draw scene seeds (occlusion_train_ppo) leave out.
 inline constexpr std::uint64_t kFirstValidationSeed = 900'000;
+/// The seeds trainers draw their scenes from: evaluations refuse them (validation and test
+/// scenes are evaluated; validation scenes choose models, test scenes report them).
+inline constexpr SeedRange kTrainerSeedRange{0, kFirstValidationSeed};
 
 struct SceneSet {
   std::string name;
