@@ -85,7 +85,7 @@ int benchInference(const std::string& model_path) {
   std::vector<double> milliseconds;
   for (int i = 0; i < 220; ++i) {
     const auto begin = std::chrono::steady_clock::now();
-    agent.act(*start.observation, start.info);
+    agent.act(rigObservationOf(start));
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
     if (i >= 20) milliseconds.push_back(ms);  // after warm-up
@@ -121,9 +121,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     result["figures"].erase(unused);
   }
   const std::string out =
-      out_path.empty()
-          ? std::filesystem::path(model_path).replace_extension(".check.json").string()
-          : out_path;
+      out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
+                       : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
