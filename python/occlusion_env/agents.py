@@ -13,7 +13,8 @@ from occlusion_env._core import InvalidArgumentError
 
 
 def entries():
-    """Every agent: a list of dicts with name, summary, needs_simulator, needs_model_file,
+    """Every agent: a list of dicts with name, summary, needs_simulator (the gradient, the scene
+    or the masks and true occlusion: an in-process simulator), needs_model_file,
     default_model_path, competes."""
     return _agents.entries()
 

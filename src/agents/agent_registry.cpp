@@ -79,20 +79,45 @@ std::string AgentRegistry::unmetNeed(const std::string& name,
     return "the " + entry.name + " agent reads the scene, so it runs only on an in-process " +
            "simulator, not on " + environment.describe();
   }
+  if (entry.needs.privileged_observation && !environment.hasPrivilegedObservation()) {
+    return "the " + entry.name + " agent reads the privileged observation (masks, amodal " +
+           "silhouettes, true occlusion), which " + environment.describe() +
+           " does not offer: only an in-process simulator does (a real camera cannot)";
+  }
   return "";
 }
+
+namespace {
+
+// What `entry` may reach of `environment`: only what its needs declare.
+AgentCapabilities capabilitiesFor(const AgentEntry& entry, EnvironmentInterface& environment,
+                                  const std::string& model_path) {
+  AgentCapabilities capabilities;
+  capabilities.model_path = model_path.empty() ? entry.default_model_path : model_path;
+  if (entry.needs.model_file && capabilities.model_path.empty()) {
+    throw InvalidArgumentError("the " + entry.name + " agent needs a model file");
+  }
+  if (entry.needs.occlusion_gradient) {
+    capabilities.occlusion_gradient = [&environment] { return environment.occlusionGradient(); };
+  }
+  if (entry.needs.simulation) capabilities.simulation = environment.simulation();
+  if (entry.needs.privileged_observation) {
+    capabilities.privileged_observation = [&environment] {
+      return environment.privilegedObservation();
+    };
+  }
+  return capabilities;
+}
+
+}  // namespace
 
 std::unique_ptr<Agent> AgentRegistry::make(const std::string& name,
                                            const AgentContext& context) const {
   const AgentEntry& entry = at(name);
   const std::string unmet = unmetNeed(name, context.environment);
   if (!unmet.empty()) throw InvalidStateError(unmet);
-  AgentContext resolved = context;
-  if (resolved.model_path.empty()) resolved.model_path = entry.default_model_path;
-  if (entry.needs.model_file && resolved.model_path.empty()) {
-    throw InvalidArgumentError("the " + entry.name + " agent needs a model file");
-  }
-  std::unique_ptr<Agent> agent = entry.make(resolved);
+  std::unique_ptr<Agent> agent =
+      entry.make(capabilitiesFor(entry, context.environment, context.model_path));
   if (!agent) throw InvalidStateError("the factory of " + quoted(entry.name) + " made no agent");
   return agent;
 }

@@ -67,7 +67,7 @@ void stepUntilDone(EnvironmentInterface& environment, Agent& agent, StepResult r
     const std::string step_name = "step " + std::to_string(record.steps + 1);
     Action action;
     try {
-      action = agent.act(*result.observation, result.info);
+      action = agent.act(rigObservationOf(result));
     } catch (const std::exception& error) {
       record.end = EpisodeEnd::kAgentFailed;
       record.message = "the agent could not act before " + step_name + ": " + error.what();

@@ -18,12 +18,12 @@ void GradientAgent::reset(std::uint64_t seed) {
   random_moves_ = 0;
 }
 
-Action GradientAgent::act(const Observation& observation, const StepInfo& info) {
+Action GradientAgent::act(const RigObservation& observation) {
   last_gradient_ = source_();
   const Eigen::Vector2d& gradient = last_gradient_.gradient;
   if (!last_gradient_.valid || !gradient.allFinite() || gradient.norm() == 0.0) {
     ++random_moves_;
-    return fallback_.act(observation, info);
+    return fallback_.act(observation);
   }
   const Eigen::Vector2d direction = -gradient.normalized();
   return {direction.x(), direction.y()};
@@ -41,10 +41,8 @@ AgentEntry gradientAgentEntry() {
       "(doc/GRADIENT.md), a random one when the gradient is invalid; needs the simulator";
   entry.needs.occlusion_gradient = true;
   entry.paper_label = "Env. Grad";
-  entry.make = [](const AgentContext& context) {
-    EnvironmentInterface& environment = context.environment;
-    return std::make_unique<GradientAgent>(
-        [&environment] { return environment.occlusionGradient(); });
+  entry.make = [](const AgentCapabilities& capabilities) {
+    return std::make_unique<GradientAgent>(capabilities.occlusion_gradient);
   };
   return entry;
 }

@@ -238,9 +238,9 @@ void OracleAgent::reset(std::uint64_t) {
   planned_ = false;
 }
 
-Action OracleAgent::act(const Observation&, const StepInfo& info) {
+Action OracleAgent::act(const RigObservation& observation) {
   if (!planned_ || next_ >= plan_.path.size()) {
-    plan_ = oracle_.query(info.pose);
+    plan_ = oracle_.query(observation.pose);
     next_ = 0;
     planned_ = true;
   }
@@ -256,11 +256,11 @@ AgentEntry oracleAgentEntry() {
       "(reads the scene: the floor of every table, not a competitor)";
   entry.needs.simulation = true;
   entry.competes = false;
-  entry.make = [](const AgentContext& context) {
+  entry.make = [](const AgentCapabilities& capabilities) {
     // Once per episode, so it can afford the finer lattice (doc/ORACLE.md): a quarter step.
     OracleOptions options;
     options.lattice_spacing_steps = 0.25;
-    return std::make_unique<OracleAgent>(*context.environment.simulation(), options);
+    return std::make_unique<OracleAgent>(*capabilities.simulation, options);
   };
   return entry;
 }

@@ -13,7 +13,7 @@ void RandomAgent::reset(std::uint64_t seed) {
   random_ = RandomSource(seed);
 }
 
-Action RandomAgent::act(const Observation&, const StepInfo&) {
+Action RandomAgent::act(const RigObservation&) {
   const double angle = random_.uniform(0.0, 2.0 * M_PI);
   return {std::cos(angle), std::sin(angle)};
 }
@@ -27,7 +27,7 @@ AgentEntry randomAgentEntry() {
   entry.name = "random";
   entry.summary = "a unit move in a uniformly random direction of the (azimuth, elevation) plane";
   entry.paper_label = "Random";
-  entry.make = [](const AgentContext&) { return std::make_unique<RandomAgent>(); };
+  entry.make = [](const AgentCapabilities&) { return std::make_unique<RandomAgent>(); };
   return entry;
 }
 

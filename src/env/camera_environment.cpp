@@ -125,6 +125,7 @@ void CameraEnvironment::takeView(const CameraFrame& frame, StepInfo& info) {
   }
   info.world_from_optical = frame.sphere_from_optical;
   info.pose = sphericalPoseOf(frame.sphere_from_optical.translation());
+  info.intrinsics = intrinsics_;
 }
 
 StepResult CameraEnvironment::reset(std::uint64_t seed, const ResetOptions& overrides) {
@@ -149,6 +150,7 @@ StepResult CameraEnvironment::reset(std::uint64_t seed, const ResetOptions& over
   }
   StepInfo info = info_;
   takeView(*frame, info);
+  info.last_action = Action{};
   rule_.start(info.occlusion);
   info_ = std::move(info);
   info_.step_index = rule_.stepIndex();
@@ -166,6 +168,7 @@ StepResult CameraEnvironment::step(const Action& action) {
       rig_.moveTo(sphere_.moved(now, move.d_azimuth_rad, move.d_elevation_rad));
   StepInfo info = info_;
   takeView(frame, info);
+  info.last_action = action;
   // Only now does the episode change: every error above leaves it as it was.
   const StepVerdict verdict = rule_.step(info.occlusion.total_pixels);
   info_ = std::move(info);

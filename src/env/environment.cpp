@@ -145,6 +145,12 @@ GradientResult Environment::occlusionGradient() {
   return gradient_->compute(*this);
 }
 
+PrivilegedObservation Environment::privilegedObservation() {
+  if (!has_episode_) throw InvalidStateError("privilegedObservation() before any reset()");
+  return {observation_.instance, observation_.amodal_bits, observation_.occlusion_mask,
+          info_.occlusion};
+}
+
 const CameraIntrinsics& Environment::intrinsics() const {
   return renderer_->intrinsics();
 }
@@ -228,6 +234,8 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       info_.occlusion = std::move(occlusion);
       info_.pose = start_pose;
       info_.world_from_optical = world_from_optical;
+      info_.intrinsics = renderer_->intrinsics();
+      info_.last_action = Action{};
       info_.step_index = rule_.stepIndex();
       has_episode_ = true;
 
@@ -266,6 +274,7 @@ StepResult Environment::step(const Action& action) {
 
   info_.pose = camera_.moved(info_.pose, move.d_azimuth_rad, move.d_elevation_rad);
   info_.world_from_optical = camera_.worldFromOptical(info_.pose);
+  info_.last_action = action;
   renderCurrent();
   const StepVerdict verdict = rule_.step(info_.occlusion.total_pixels);
   info_.step_index = rule_.stepIndex();

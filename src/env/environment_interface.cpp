@@ -28,6 +28,22 @@ Action cameraMoveFor(const Action& action, double step_size_rad, bool normalize)
   return move;
 }
 
+RigObservation rigObservationOf(const Observation& observation, const StepInfo& info) {
+  return {observation.rgb,         observation.depth, info.intrinsics, info.pose,
+          info.world_from_optical, info.last_action,  info.step_index};
+}
+
+RigObservation rigObservationOf(const StepResult& result) {
+  if (result.observation == nullptr) throw InvalidStateError("a step result without observation");
+  return rigObservationOf(*result.observation, result.info);
+}
+
+PrivilegedObservation EnvironmentInterface::privilegedObservation() {
+  throw InvalidStateError(describe() +
+                          " offers no privileged observation (masks and true occlusion: only an "
+                          "in-process simulator can)");
+}
+
 GradientResult EnvironmentInterface::occlusionGradient() {
   throw InvalidStateError(describe() + " offers no occlusion gradient (only a simulator can)");
 }

@@ -73,7 +73,7 @@ Rollout rollOut(dataset::SceneWriter& writer, Agent& agent, std::uint64_t seed,
   Rollout rollout;
   rollout.poses.push_back(result.info.pose);
   for (int step = 0; step < options.max_steps && !result.terminated && !result.truncated; ++step) {
-    Action action = agent.act(*result.observation, result.info);
+    Action action = agent.act(rigObservationOf(result));
     if (options.beta > 0.0 && coin.uniform() < options.beta) {
       const OracleAnswer answer = writer.oracle().query(result.info.pose);
       if (!answer.path.empty()) {

@@ -19,7 +19,7 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
 
 void NetworkDirectionAgent::reset(std::uint64_t) {}
 
-Action NetworkDirectionAgent::act(const Observation& observation, const StepInfo&) {
+Action NetworkDirectionAgent::act(const RigObservation& observation) {
   writeNetworkInput(observation.rgb, observation.depth, model_->network->config().inputFormat(),
                     scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
@@ -49,8 +49,8 @@ AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
   entry.needs.model_file = true;
   entry.paper_label = paper_label;
   entry.default_model_path = default_model_path;
-  entry.make = [make = std::move(make)](const AgentContext& context) {
-    return make(context.model_path);
+  entry.make = [make = std::move(make)](const AgentCapabilities& capabilities) {
+    return make(capabilities.model_path);
   };
   return entry;
 }

@@ -198,11 +198,11 @@ void PolicyAgent::reset(std::uint64_t) {
   last_move_ = Action{};
 }
 
-Action PolicyAgent::act(const Observation& observation, const StepInfo& info) {
+Action PolicyAgent::act(const RigObservation& observation) {
   auto& network = policy_->network;
   writeNetworkInput(observation.rgb, observation.depth, network->backbone()->config().inputFormat(),
                     scratch_, input_.data_ptr<float>());
-  writeRigInput(last_move_, info.pose.elevation_rad, rig_.data_ptr<float>());
+  writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor mean = network->actionMean(network->features(input_), rig_);
   const float d_azimuth = mean[0][0].item<float>(), d_elevation = mean[0][1].item<float>();

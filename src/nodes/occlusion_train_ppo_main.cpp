@@ -137,8 +137,8 @@ int printMeanLengths(const std::vector<std::string>& paths) {
     for (int k = 0; k < kScenes; ++k) {
       const StepResult start = environment.reset(kFirstValidationSeed + 100 + k);
       policy_agent.reset(0);
-      const Action mean = policy_agent.act(*start.observation, start.info);
-      const Action escape = escape_agent.act(*start.observation, start.info);
+      const Action mean = policy_agent.act(rigObservationOf(start));
+      const Action escape = escape_agent.act(rigObservationOf(start));
       policy_sum += std::hypot(mean.d_azimuth_rad, mean.d_elevation_rad);
       escape_sum += std::hypot(escape.d_azimuth_rad, escape.d_elevation_rad);
     }

@@ -40,7 +40,9 @@ const AgentRegistry& registry() {
 }
 
 /// An agent called with observations in Python's encoding; answers actions in [-1, 1] units of
-/// step_size that the environment turns into the very move the agent chose.
+/// step_size that the environment turns into the very move the agent chose. Python's observation
+/// holds the images and the pose: the agent's RigObservation gets the last action and the step
+/// index counted here since reset(), and no intrinsics (fx = fy = 0) or camera frame (identity).
 class PythonAgent {
  public:
   PythonAgent(const std::string& name, const std::string& model_path, py::object environment,
@@ -58,7 +60,11 @@ class PythonAgent {
     agent_ = registry().make(name, AgentContext{*target, model_path});
   }
 
-  void reset(std::uint64_t seed) { agent_->reset(seed); }
+  void reset(std::uint64_t seed) {
+    agent_->reset(seed);
+    info_.last_action = Action{};
+    info_.step_index = 0;
+  }
 
   py::array_t<float> act(const py::dict& observation) {
     for (const char* key : {"rgb", "depth", "pose"}) {
@@ -71,12 +77,15 @@ class PythonAgent {
     observation_.depth = depth_;
     const auto pose = py::array_t<double, py::array::forcecast>::ensure(observation["pose"]);
     if (!pose || pose.size() != 2) throw InvalidArgumentError("pose must hold 2 numbers");
-    StepInfo info;
-    info.pose = {pose.at(0), pose.at(1)};
+    info_.pose = {pose.at(0), pose.at(1)};
+    info_.intrinsics = {observation_.rgb.cols, observation_.rgb.rows, 0.0, 0.0, 0.0, 0.0};
     Action move;
     {
       py::gil_scoped_release release;
-      move = cameraMoveFor(agent_->act(observation_, info), step_size_rad_, normalize_action_);
+      const Action action = agent_->act(rigObservationOf(observation_, info_));
+      move = cameraMoveFor(action, step_size_rad_, normalize_action_);
+      info_.last_action = action;
+      ++info_.step_index;
     }
     py::array_t<float> action(2);
     action.mutable_at(0) = static_cast<float>(move.d_azimuth_rad / step_size_rad_);
@@ -90,8 +99,9 @@ class PythonAgent {
   std::unique_ptr<Agent> agent_;
   double step_size_rad_;
   bool normalize_action_;
-  Observation observation_;
-  cv::Mat depth_;  // the core's encoding of the last depth (NaN = nothing hit)
+  Observation observation_;  // rgb and depth only
+  StepInfo info_;            // what the agent is told besides the images
+  cv::Mat depth_;            // the core's encoding of the last depth (NaN = nothing hit)
 };
 
 py::list entries() {
@@ -100,7 +110,8 @@ py::list entries() {
     py::dict item;
     item["name"] = entry.name;
     item["summary"] = entry.summary;
-    item["needs_simulator"] = entry.needs.occlusion_gradient || entry.needs.simulation;
+    item["needs_simulator"] = entry.needs.occlusion_gradient || entry.needs.simulation ||
+                              entry.needs.privileged_observation;
     item["needs_model_file"] = entry.needs.model_file;
     item["default_model_path"] = entry.default_model_path;
     item["competes"] = entry.competes;

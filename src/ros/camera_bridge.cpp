@@ -244,18 +244,6 @@ std::unique_ptr<ViewOcclusionEstimator> estimatorFor(const CameraBridgeOptions& 
   }
 }
 
-// The intrinsics of a camera_info that checkCameraInfo() accepted.
-CameraIntrinsics intrinsicsOf(const sensor_msgs::CameraInfo& info) {
-  CameraIntrinsics intrinsics;
-  intrinsics.width = static_cast<int>(info.width);
-  intrinsics.height = static_cast<int>(info.height);
-  intrinsics.fx = info.K[0];
-  intrinsics.fy = info.K[4];
-  intrinsics.cx = info.K[2];
-  intrinsics.cy = info.K[5];
-  return intrinsics;
-}
-
 }  // namespace
 
 CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle node,

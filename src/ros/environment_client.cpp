@@ -111,6 +111,7 @@ StepResult EnvironmentClient::step(const Action& action) {
   const Step::Response& response = step_call_.response;
   throwForStatus(response.status, "step refused");
   StepResult result = resultFor(response.observation);
+  result.info.last_action = action;
   result.reward = response.reward;
   result.terminated = response.terminated;
   result.truncated = response.truncated;

@@ -101,6 +101,17 @@ sensor_msgs::CameraInfo toCameraInfo(const CameraIntrinsics& intrinsics,
   return info;
 }
 
+CameraIntrinsics intrinsicsOf(const sensor_msgs::CameraInfo& info) {
+  CameraIntrinsics intrinsics;
+  intrinsics.width = static_cast<int>(info.width);
+  intrinsics.height = static_cast<int>(info.height);
+  intrinsics.fx = info.K[0];
+  intrinsics.fy = info.K[4];
+  intrinsics.cx = info.K[2];
+  intrinsics.cy = info.K[5];
+  return intrinsics;
+}
+
 geometry_msgs::Pose toPose(const Eigen::Isometry3d& transform) {
   return tf2::toMsg(transform);
 }
@@ -213,6 +224,7 @@ void viewObservation(const CameraObservation& message, Observation& observation,
     info.occlusion.pairs[i].pixels = message.occlusion.pairs[i].pixels;
   }
   tf2::fromMsg(message.camera_pose.pose, info.world_from_optical);
+  info.intrinsics = intrinsicsOf(message.camera_info);
 }
 
 EpisodeReport toEpisodeReport(const EpisodeRecord& record, int episode_index,

@@ -99,6 +99,7 @@ void printAgentsMarkdown(const occlusion_env::AgentRegistry& registry) {
     std::string needs;
     if (entry.needs.occlusion_gradient) needs += "the simulator's gradient service; ";
     if (entry.needs.simulation) needs += "the in-process simulation (a reference); ";
+    if (entry.needs.privileged_observation) needs += "the simulator's masks and true occlusion; ";
     if (entry.needs.model_file) needs += "a model file; ";
     needs = needs.empty() ? "RGB-D only" : needs.substr(0, needs.size() - 2);
     std::cout << "| `" << entry.name << "` | " << entry.summary << " | " << needs << " | "

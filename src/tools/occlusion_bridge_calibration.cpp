@@ -144,11 +144,12 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       }
       views[scene].push_back(view);
       if (t == options.max_steps) break;
-      const Action move = cameraMoveFor(agent->act(observation, info), options.step_size_rad,
-                                        options.normalize_action);
+      const Action action = agent->act(rigObservationOf(observation, info));
+      const Action move = cameraMoveFor(action, options.step_size_rad, options.normalize_action);
       info = environment.viewFrom(
           environment.camera().moved(info.pose, move.d_azimuth_rad, move.d_elevation_rad));
       info.step_index = t + 1;
+      info.last_action = action;
     }
     std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
   }
@@ -170,8 +171,8 @@ void printHeader(const Arguments& args, const std::vector<std::vector<View>>& vi
   }
   std::cout << args.agent << " on " << args.scenes << " scenes (seeds " << args.first_seed << ".."
             << args.first_seed + args.scenes - 1 << ", " << args.options.catalog.source
-            << ", split " << toString(args.options.scene.model_split) << ", " << args.size << " px, "
-            << args.options.world.world << ", depth " << args.options.sensor.depth_sensor
+            << ", split " << toString(args.options.scene.model_split) << ", " << args.size
+            << " px, " << args.options.world.world << ", depth " << args.options.sensor.depth_sensor
             << (args.millimetre_depth ? ", depth in millimetres" : "") << "), " << max_steps
             << " steps at most\n"
             << "estimate: " << args.model << "\n"

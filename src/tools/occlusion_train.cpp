@@ -85,7 +85,7 @@ int benchInference(const std::string& model_path) {
   std::vector<double> milliseconds;
   for (int i = 0; i < 220; ++i) {
     const auto begin = std::chrono::steady_clock::now();
-    agent.act(*start.observation, start.info);
+    agent.act(rigObservationOf(start));
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
     if (i >= 20) milliseconds.push_back(ms);  // after warm-up

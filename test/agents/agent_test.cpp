@@ -35,15 +35,15 @@ EpisodeRecord run(EnvironmentInterface& env, Agent& agent, std::uint64_t seed,
 TEST(AgentTest, RandomAgentIsDeterministicPerSeedAndGivesUnitDirections) {
   RandomAgent first(5), second(99);
   second.reset(5);
-  const Observation observation;
-  const StepInfo info;
+  const Observation images;
+  const RigObservation observation = rigObservationOf(images, StepInfo{});
   double mean_azimuth = 0.0, mean_elevation = 0.0;
   bool differs_from_other_seed = false;
   RandomAgent other(6);
   for (int t = 0; t < 1000; ++t) {
-    const Action a = first.act(observation, info);
-    const Action b = second.act(observation, info);
-    const Action c = other.act(observation, info);
+    const Action a = first.act(observation);
+    const Action b = second.act(observation);
+    const Action c = other.act(observation);
     EXPECT_EQ(a.d_azimuth_rad, b.d_azimuth_rad);
     EXPECT_EQ(a.d_elevation_rad, b.d_elevation_rad);
     EXPECT_NEAR(std::hypot(a.d_azimuth_rad, a.d_elevation_rad), 1.0, 1e-12);
@@ -62,14 +62,16 @@ TEST(AgentTest, GradientAgentStepsDownhillAndFallsBackToRandomMoves) {
   GradientAgent agent([&next]() { return next; }, 3);
   next.valid = true;
   next.gradient = {3.0, -4.0};
-  Action action = agent.act({}, {});
+  const Observation images;
+  const RigObservation observation = rigObservationOf(images, StepInfo{});
+  Action action = agent.act(observation);
   EXPECT_NEAR(action.d_azimuth_rad, -0.6, 1e-12);
   EXPECT_NEAR(action.d_elevation_rad, 0.8, 1e-12);
   EXPECT_EQ(agent.randomMoves(), 0);
 
   next = {};  // invalid, zero
   next.reason = "zero gradient";
-  action = agent.act({}, {});
+  action = agent.act(observation);
   EXPECT_NEAR(std::hypot(action.d_azimuth_rad, action.d_elevation_rad), 1.0, 1e-12);
   EXPECT_EQ(agent.randomMoves(), 1);
   EXPECT_EQ(agent.lastGradient().reason, "zero gradient");

@@ -52,6 +52,8 @@ TEST(CameraEnvironment, OnTheSimulatorWithTheTruthItPlaysTheSimulatorsEpisodes) 
     EXPECT_EQ(got.info.occlusion_source, OcclusionSource::kEstimated);
     EXPECT_TRUE(got.info.world_from_optical.isApprox(expected.info.world_from_optical, 1e-12));
     EXPECT_EQ(bridge.intrinsics().fx, stand_in.intrinsics().fx);
+    EXPECT_EQ(got.info.intrinsics.fx, expected.info.intrinsics.fx);  // what agents are told
+    EXPECT_EQ(got.info.intrinsics.cx, expected.info.intrinsics.cx);
     int steps = 0;
     while (!expected.terminated && !expected.truncated) {
       const Action action{1.0, 0.3};
@@ -66,10 +68,18 @@ TEST(CameraEnvironment, OnTheSimulatorWithTheTruthItPlaysTheSimulatorsEpisodes) 
       EXPECT_EQ(got.terminated, expected.terminated);
       EXPECT_EQ(got.truncated, expected.truncated);
       EXPECT_EQ(got.info.step_index, expected.info.step_index);
+      EXPECT_EQ(got.info.last_action.d_elevation_rad, 0.3);
+      EXPECT_EQ(expected.info.last_action.d_elevation_rad, 0.3);
       ASSERT_LT(steps, 60);
     }
     EXPECT_TRUE(expected.terminated) << "a scene the test should see cleared";
   }
+  // Masks and true occlusion: the simulator has them, a camera does not.
+  EXPECT_TRUE(direct.hasPrivilegedObservation());
+  EXPECT_EQ(direct.privilegedObservation().occlusion.total_pixels,
+            direct.info().occlusion.total_pixels);
+  EXPECT_FALSE(bridge.hasPrivilegedObservation());
+  EXPECT_THROW(bridge.privilegedObservation(), InvalidStateError);
 }
 
 TEST(CameraEnvironment, WithoutAnEstimatorOnlyMaxStepsEndsAnEpisode) {

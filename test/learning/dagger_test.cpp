@@ -85,8 +85,7 @@ TEST(DaggerTest, WritesTheAgentsStatesWithTheOraclesLabelsAndResumes) {
     // Near, not equal: the network's sums may run in another order on another thread count.
     EXPECT_NEAR(frames[k]->labels.pose.azimuth_rad, result.info.pose.azimuth_rad, 1e-9);
     EXPECT_NEAR(frames[k]->labels.pose.elevation_rad, result.info.pose.elevation_rad, 1e-9);
-    if (k + 1 < frames.size())
-      result = environment.step(agent.act(*result.observation, result.info));
+    if (k + 1 < frames.size()) result = environment.step(agent.act(rigObservationOf(result)));
   }
   EXPECT_TRUE(frames.size() == static_cast<std::size_t>(options.max_steps + 1) ||
               result.terminated);

@@ -135,7 +135,7 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   const AgentRegistry registry = learningAgents();
   for (const std::string name : {"predicted_gradient", "predicted_escape"}) {
     const auto agent = registry.make(name, {environment, best});
-    const Action action = agent->act(*start.observation, start.info);
+    const Action action = agent->act(rigObservationOf(start));
     EXPECT_NEAR(std::hypot(action.d_azimuth_rad, action.d_elevation_rad) > 0.0, 1.0, 0.0) << name;
   }
 

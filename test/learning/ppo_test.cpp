@@ -145,9 +145,9 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   const AgentRegistry registry = learningAgents();
   const auto agent = registry.make("policy", {environment, (run / "policy.pt").string()});
   agent->reset(1);
-  const Action first = agent->act(*start.observation, start.info);
+  const Action first = agent->act(rigObservationOf(start));
   agent->reset(1);
-  const Action repeated = agent->act(*start.observation, start.info);
+  const Action repeated = agent->act(rigObservationOf(start));
   EXPECT_TRUE(std::isfinite(first.d_azimuth_rad) && std::isfinite(first.d_elevation_rad));
   EXPECT_EQ(first.d_azimuth_rad, repeated.d_azimuth_rad);
   EXPECT_EQ(first.d_elevation_rad, repeated.d_elevation_rad);

@@ -128,6 +128,14 @@ TEST(RandomizedCameraTest, CameraInfoAndMarkersFollowTheDrawnCamera) {
   EXPECT_EQ(info.P[0], k.fx);
   EXPECT_EQ(info.P[6], k.cy);
   EXPECT_EQ(message.rgb.width, info.width);
+  Observation observation;  // what a client of the simulator's services reads back
+  StepInfo view_info;
+  viewObservation(message, observation, view_info);
+  EXPECT_EQ(view_info.intrinsics.width, k.width);
+  EXPECT_EQ(view_info.intrinsics.fx, k.fx);
+  EXPECT_EQ(view_info.intrinsics.fy, k.fy);
+  EXPECT_EQ(view_info.intrinsics.cx, k.cx);
+  EXPECT_EQ(view_info.intrinsics.cy, k.cy);
 
   const visualization_msgs::MarkerArray markers = toSceneMarkers(environment.scene(), header);
   const double scale = environment.scene().scale;

@@ -14,20 +14,38 @@
 
 namespace occlusion_env {
 
-/// What an agent needs besides the observations every environment gives.
+/// What an agent needs besides what a camera gives (RigObservation): each need is a way to reach
+/// what no camera gives, and an agent gets only the ways its entry declares (AgentCapabilities).
 struct AgentNeeds {
-  bool occlusion_gradient = false;  // EnvironmentInterface::occlusionGradient(): a simulator
-  bool simulation = false;          // the in-process simulation itself (reads the scene)
-  bool model_file = false;          // a trained model (AgentContext::model_path)
+  bool occlusion_gradient = false;      // EnvironmentInterface::occlusionGradient(): a simulator
+  bool simulation = false;              // the in-process simulation itself (reads the scene)
+  bool privileged_observation = false;  // EnvironmentInterface::privilegedObservation(): the
+                                        // view's masks and true occlusion (a simulator in process)
+  bool model_file = false;              // a trained model (AgentCapabilities::model_path)
 };
 
-/// What a factory gets to make an agent.
+/// Where an agent is to run: what a caller gives AgentRegistry::make().
 struct AgentContext {
   EnvironmentInterface& environment;  // outlives the agent
   std::string model_path;             // "" = the entry's default_model_path
 };
 
-using AgentFactory = std::function<std::unique_ptr<Agent>(const AgentContext&)>;
+/// The current view's gradient dL_s/d(azimuth, elevation) (doc/GRADIENT.md).
+using OcclusionGradientSource = std::function<GradientResult()>;
+/// The current view's privileged record (valid until the environment's next reset or step).
+using PrivilegedObservationSource = std::function<PrivilegedObservation()>;
+
+/// What the registry hands an entry's factory: the model path, and a way to reach what no camera
+/// gives only for the needs the entry declares; the others stay empty. The environment itself is
+/// not handed over, so an agent cannot read more than it declares.
+struct AgentCapabilities {
+  std::string model_path;                              // with needs.model_file: never empty
+  OcclusionGradientSource occlusion_gradient;          // with needs.occlusion_gradient
+  Environment* simulation = nullptr;                   // with needs.simulation; outlives the agent
+  PrivilegedObservationSource privileged_observation;  // with needs.privileged_observation
+};
+
+using AgentFactory = std::function<std::unique_ptr<Agent>(const AgentCapabilities&)>;
 
 struct AgentEntry {
   std::string name;     // lower_case, no commas or spaces
@@ -63,8 +81,9 @@ class AgentRegistry {
   /// Why `name` cannot run on `environment` (a need it does not meet), or "" when it can.
   std::string unmetNeed(const std::string& name, EnvironmentInterface& environment) const;
 
-  /// Makes `name` for `context`. Throws InvalidArgumentError for an unknown name and
-  /// InvalidStateError when the environment does not meet the agent's needs.
+  /// Makes `name` for `context`, handing its factory the capabilities its needs declare. Throws
+  /// InvalidArgumentError for an unknown name or a missing model file and InvalidStateError when
+  /// the environment does not meet the agent's needs.
   std::unique_ptr<Agent> make(const std::string& name, const AgentContext& context) const;
 
  private:

@@ -94,7 +94,7 @@ class OracleAgent : public Agent {
  public:
   OracleAgent(Environment& environment, const OracleOptions& options = {});
   void reset(std::uint64_t seed) override;
-  Action act(const Observation& observation, const StepInfo& info) override;
+  Action act(const RigObservation& observation) override;
   /// The plan of the current episode (its step count is the bound).
   const OracleAnswer& plan() const { return plan_; }
 

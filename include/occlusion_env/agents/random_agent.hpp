@@ -12,7 +12,7 @@ class RandomAgent : public Agent {
  public:
   explicit RandomAgent(std::uint64_t seed = 0);
   void reset(std::uint64_t seed) override;
-  Action act(const Observation& observation, const StepInfo& info) override;
+  Action act(const RigObservation& observation) override;
 
  private:
   RandomSource random_;

@@ -102,6 +102,9 @@ class Environment : public EnvironmentInterface, public RenderedView {
   /// The gradient of the current view by options().gradient_method, with options().gradient.
   bool hasOcclusionGradient() const override { return true; }
   GradientResult occlusionGradient() override;
+  /// Views of the current view's masks and info().occlusion.
+  bool hasPrivilegedObservation() const override { return true; }
+  PrivilegedObservation privilegedObservation() override;
   Environment* simulation() override { return this; }
   std::string describe() const override { return "in-process simulator"; }
 

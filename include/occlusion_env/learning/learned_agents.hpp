@@ -22,7 +22,7 @@ class NetworkDirectionAgent : public Agent {
  public:
   NetworkDirectionAgent(std::shared_ptr<LoadedModel> model, DirectionHead head);
   void reset(std::uint64_t seed) override;
-  Action act(const Observation& observation, const StepInfo& info) override;
+  Action act(const RigObservation& observation) override;
 
  private:
   std::shared_ptr<LoadedModel> model_;

@@ -112,7 +112,7 @@ class PolicyAgent : public Agent {
  public:
   explicit PolicyAgent(std::shared_ptr<LoadedPolicy> policy);
   void reset(std::uint64_t seed) override;
-  Action act(const Observation& observation, const StepInfo& info) override;
+  Action act(const RigObservation& observation) override;
 
  private:
   std::shared_ptr<LoadedPolicy> policy_;

@@ -42,6 +42,9 @@ void toMetricDepth(const sensor_msgs::Image& image, cv::Mat& depth_m);
 sensor_msgs::CameraInfo toCameraInfo(const CameraIntrinsics& intrinsics,
                                      const std_msgs::Header& header);
 
+/// The pinhole intrinsics of `info` (size and K; distortion ignored), unchecked.
+CameraIntrinsics intrinsicsOf(const sensor_msgs::CameraInfo& info);
+
 geometry_msgs::Pose toPose(const Eigen::Isometry3d& transform);
 
 /// `parent_from_child` as a transform from `parent` to `child` (tf's convention).
@@ -70,8 +73,9 @@ void fillObservation(const Environment& environment, const std_msgs::Header& hea
 /// The core's view of an observation message, for agents running behind ROS: `observation` gets
 /// cv::Mat headers over the message's image buffers (no copy: valid while `message` is unchanged;
 /// amodal_bits stays empty, it is not sent; an image of no pixels, as the camera bridge sends for
-/// masks it cannot give, stays empty too), `info` the pose, step index, occlusion figures and
-/// camera pose. Throws std::invalid_argument on an image of the wrong encoding or size.
+/// masks it cannot give, stays empty too), `info` the pose, step index, occlusion figures,
+/// camera pose and intrinsics (`info.last_action` is left as it is: the message does not hold it).
+/// Throws std::invalid_argument on an image of the wrong encoding or size.
 void viewObservation(const CameraObservation& message, Observation& observation, StepInfo& info);
 
 /// An episode record as a message (`episode_index`: its place in the node's list of seeds).
