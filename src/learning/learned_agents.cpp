@@ -40,6 +40,10 @@ std::string defaultModelPath() {
   return packageShareDirectory() + "/models/multitask_unet64.pt";
 }
 
+std::string cameraModelPath() {
+  return packageShareDirectory() + "/models/multitask_unet64_camera.pt";
+}
+
 AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
                            const std::string& paper_label, const std::string& default_model_path,
                            std::function<std::unique_ptr<Agent>(const std::string&)> make) {

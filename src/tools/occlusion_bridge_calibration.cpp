@@ -32,7 +32,7 @@ using occlusion_env::OptionTable;
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
   std::string agent = "predicted_escape";
-  std::string model;  // the shipped network unless given
+  std::string model;  // the shipped network for depth cameras unless given
   int scenes = 50;
   long long first_seed = 900000;
   std::vector<double> thresholds = {0, 16, 64, 256};
@@ -41,7 +41,7 @@ struct Arguments {
   bool millimetre_depth = false;
   int size = 256;
 
-  Arguments() : model(occlusion_env::learning::defaultModelPath()) {
+  Arguments() : model(occlusion_env::learning::cameraModelPath()) {
     options.catalog.source = "sweethome3d";
     options.scene.categories = {"chair", "table"};
     options.scene.model_split = occlusion_env::ModelSplit::kTrain;

@@ -31,8 +31,12 @@ class NetworkDirectionAgent : public Agent {
   torch::Tensor input_;
 };
 
-/// The shipped model the learned agents use by default (models/, doc/AGENTS.md).
+/// The shipped model the learned agents use by default in the simulator (models/, doc/AGENTS.md):
+/// the network of the paper's tables, trained in the void with perfect depth.
 std::string defaultModelPath();
+/// The shipped model for a depth camera (the camera bridge's and its agents' default): the same
+/// weights, reading depth with its dropouts filled (depth_gaps filled, doc/TRAINING.md).
+std::string cameraModelPath();
 
 /// A registry entry for an agent made from a model file: needs.model_file set, `make` given the
 /// file's path ("" default_model_path: the agent runs only when a path is given).
