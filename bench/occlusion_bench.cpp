@@ -3,15 +3,20 @@
 // Scenes: "embedded" = a seeded random scene of the embedded objects; "oak_chairs" = three copies
 // of Sweet Home 3D's Blend Swap oak chair (31,786 triangles each) in the paper's layout.
 // LOD 1 renders the level-of-detail meshes (5000 triangles per object), LOD 0 the full meshes;
-// BM_StepLodBudget steps the oak chairs at other budgets.
+// BM_StepLodBudget steps the oak chairs at other budgets. BM_VectorStep steps N environments at
+// once on their own threads (VectorEnvironment), as a trainer does.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
+#include <random>
 #include <utility>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/env/vector_environment.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
 
 namespace occlusion_env {
@@ -205,12 +210,72 @@ void budgetArguments(benchmark::internal::Benchmark* benchmark) {
   benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 }
 
+// N environments on their own threads (arguments envs, size, scene 0 = embedded, 1 = the PPO
+// trainer's scenes: Sweet Home 3D chairs and tables of the train split): every environment
+// steps in a random direction (seeded); one that ended resets in the next round while the others
+// step, as Gymnasium's vector environments do. Items = steps and resets of all environments, so
+// items/s is the aggregate step rate.
+void BM_VectorStep(benchmark::State& state) {
+  const int count = static_cast<int>(state.range(0));
+  const bool training_scenes = state.range(2) == 1;
+  EnvironmentOptions options;
+  if (training_scenes) {
+    SceneSet scenes;
+    scenes.source = "sweethome3d";
+    scenes.categories = {"chair", "table"};
+    scenes.model_split = "train";
+    options = environmentOptionsFor(scenes);
+  }
+  options.width = options.height = static_cast<int>(state.range(1));
+  auto library = training_scenes ? std::make_shared<ObjectLibrary>(makeCatalog(options.catalog),
+                                                                   options.lod_triangle_budget)
+                                 : sharedLibrary(kEmbedded, options.lod_triangle_budget);
+  std::unique_ptr<VectorEnvironment> envs;
+  std::vector<VectorRequest> requests(count);
+  std::uint64_t next_seed = 1;
+  try {
+    envs = std::make_unique<VectorEnvironment>(
+        count, [&](int) { return std::make_unique<Environment>(options, library); });
+    for (auto& request : requests) request = VectorRequest::resetTo(next_seed++);
+    envs->run(requests);
+  } catch (const std::exception& error) {
+    state.SkipWithError(error.what());
+    return;
+  }
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  for (auto _ : state) {
+    for (int i = 0; i < count; ++i) {
+      const StepResult& last = envs->result(i);
+      const double a = angle(random);
+      requests[i] = last.terminated || last.truncated
+                        ? VectorRequest::resetTo(next_seed++)
+                        : VectorRequest::stepBy({std::cos(a), std::sin(a)});
+    }
+    envs->run(requests);
+  }
+  state.SetItemsProcessed(state.iterations() * count);
+  state.SetLabel(std::to_string(count) + " envs " + (training_scenes ? "training" : "embedded") +
+                 " " + std::to_string(state.range(1)) + "px");
+}
+
+void vectorArguments(benchmark::internal::Benchmark* benchmark) {
+  benchmark->ArgNames({"envs", "size", "scene"});
+  for (int scene : {0, 1}) {
+    for (int size : {128, 256}) {
+      for (int envs : {1, 2}) benchmark->Args({envs, size, scene});
+    }
+  }
+  benchmark->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+}
+
 BENCHMARK(BM_Step)->Apply(sceneArguments);
 BENCHMARK(BM_StepLodBudget)->Apply(budgetArguments);
 BENCHMARK(BM_StepWorld)->Apply(worldArguments);
 BENCHMARK(BM_Reset)->Apply(sceneArguments);
 BENCHMARK(BM_AnalyticGradient)->Apply(gradientArguments);
 BENCHMARK(BM_FiniteDifferenceGradient)->Apply(gradientArguments);
+BENCHMARK(BM_VectorStep)->Apply(vectorArguments);
 
 }  // namespace
 }  // namespace occlusion_env

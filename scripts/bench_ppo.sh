@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # PPO training throughput (BENCHMARKS.md "PPO training"): environment steps per second, inference
-# and updates included, for 1, 2 and 4 in-process simulators and for 2 simulators over ROS
+# and updates included, for 1, 2 and 4 in-process simulators (and 2 with --overlap) and for 2
+# simulators over ROS
 # (launch/simulators.launch on a private master). Each configuration trains STEPS steps in a
 # scratch folder with the shipped backbone (frozen) on Sweet Home 3D chairs and tables, 256 px;
 # the rate quoted is the median over updates 6.. of 200 / (that update's wall time), so the
@@ -40,6 +41,8 @@ for n in 1 2 4; do
   "$trainer" --out "$scratch/in_process_$n" --envs "$n" --steps "$steps" >/dev/null 2>&1
   summarise "$n in process" "$scratch/in_process_$n"
 done
+"$trainer" --out "$scratch/overlap_2" --envs 2 --overlap --steps "$steps" >/dev/null 2>&1
+summarise "2 in process, --overlap" "$scratch/overlap_2"
 
 # Two simulators over ROS on this machine.
 (

@@ -1,6 +1,7 @@
 #include "occlusion_env/env/vector_environment.hpp"
 
 #include <stdexcept>
+#include <utility>
 
 #include "occlusion_env/common/errors.hpp"
 
@@ -97,7 +98,7 @@ void VectorEnvironment::serve(int index, const Factory& factory) {
     lock.lock();
     worker.error = error;
     worker.has_work = false;
-    if (--pending_ == 0) work_done_.notify_all();
+    work_done_.notify_all();
   }
 }
 
@@ -107,33 +108,73 @@ void VectorEnvironment::run(const std::vector<VectorRequest>& requests) {
                                " requests for " + std::to_string(workers_.size()) +
                                " environments");
   }
-  std::unique_lock<std::mutex> lock(mutex_);
-  pending_ = 0;
-  for (std::size_t i = 0; i < workers_.size(); ++i) {
-    workers_[i]->error = nullptr;
-    if (requests[i].kind == VectorRequest::Kind::kIdle) continue;
-    workers_[i]->request = requests[i];
-    workers_[i]->has_work = true;
-    ++pending_;
-  }
-  if (pending_ == 0) return;
-  work_ready_.notify_all();
-  work_done_.wait(lock, [this] { return pending_ == 0; });
-  for (std::size_t i = 0; i < workers_.size(); ++i) {
-    if (!workers_[i]->error) continue;
-    try {
-      std::rethrow_exception(workers_[i]->error);
-    } catch (const std::exception& error) {
-      // Keep the core's exception type where there is one; name the environment.
-      const std::string where = "environment " + std::to_string(i) + " (" +
-                                workers_[i]->description + "): " + error.what();
-      if (dynamic_cast<const InvalidArgumentError*>(&error)) throw InvalidArgumentError(where);
-      if (dynamic_cast<const InvalidStateError*>(&error)) throw InvalidStateError(where);
-      if (dynamic_cast<const EnvironmentUnavailableError*>(&error)) {
-        throw EnvironmentUnavailableError(where);
-      }
-      throw std::runtime_error(where);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& worker : workers_) {
+      if (worker->has_work) throw InvalidStateError("vector environment: run() while busy");
     }
+    for (std::size_t i = 0; i < workers_.size(); ++i) {
+      workers_[i]->error = nullptr;
+      if (requests[i].kind == VectorRequest::Kind::kIdle) continue;
+      workers_[i]->request = requests[i];
+      workers_[i]->has_work = true;
+    }
+  }
+  work_ready_.notify_all();
+  std::exception_ptr first_error;
+  for (std::size_t i = 0; i < workers_.size(); ++i) {
+    try {
+      wait(static_cast<int>(i));
+    } catch (...) {
+      if (!first_error) first_error = std::current_exception();
+    }
+  }
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+void VectorEnvironment::start(int index, const VectorRequest& request) {
+  Worker& worker = *workers_.at(index);
+  if (request.kind == VectorRequest::Kind::kIdle) {
+    throw InvalidArgumentError("vector environment: start() needs a reset or a step");
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (worker.has_work) {
+      throw InvalidStateError("vector environment: environment " + std::to_string(index) +
+                              " is still busy");
+    }
+    worker.error = nullptr;
+    worker.request = request;
+    worker.has_work = true;
+  }
+  work_ready_.notify_all();
+}
+
+void VectorEnvironment::wait(int index) {
+  Worker& worker = *workers_.at(index);
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    work_done_.wait(lock, [&worker] { return !worker.has_work; });
+  }
+  rethrowError(index);
+}
+
+void VectorEnvironment::rethrowError(int index) {
+  Worker& worker = *workers_[index];
+  if (!worker.error) return;
+  const std::exception_ptr error = std::exchange(worker.error, nullptr);
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& error) {
+    // Keep the core's exception type where there is one; name the environment.
+    const std::string where =
+        "environment " + std::to_string(index) + " (" + worker.description + "): " + error.what();
+    if (dynamic_cast<const InvalidArgumentError*>(&error)) throw InvalidArgumentError(where);
+    if (dynamic_cast<const InvalidStateError*>(&error)) throw InvalidStateError(where);
+    if (dynamic_cast<const EnvironmentUnavailableError*>(&error)) {
+      throw EnvironmentUnavailableError(where);
+    }
+    throw std::runtime_error(where);
   }
 }
 

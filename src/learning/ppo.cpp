@@ -31,6 +31,10 @@ void addRunOptions(OptionTable<PpoOptions>& table) {
       .add("actor_from_escape", &O::actor_from_escape,
            OptionSpec("start the actor at the network's escape head").flag(""))
       .add("fine_tune", &O::fine_tune, OptionSpec("train the encoder too (with --backbone-lr)"))
+      .add("overlap", &O::overlap,
+           OptionSpec("with 2+ environments: half of them render while the trainer runs "
+                      "inference for the other half (on one thread; another order of the "
+                      "random draws)"))
       .add("backbone_learning_rate", &O::backbone_learning_rate,
            OptionSpec("the encoder's learning rate with --fine-tune")
                .range(1e-9, 1)
@@ -79,7 +83,9 @@ void addRecordOptions(OptionTable<PpoOptions>& table) {
                       "(Agent-IN)")
                .choices({"union", "intersection", "none"}))
       .add("seed", &O::seed, OptionSpec("initial weights, actions and training seeds"))
-      .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256))
+      .add("threads", &O::threads,
+           OptionSpec("libtorch threads; 0 = all cores (1: two stall when the machine is shared)")
+               .range(0, 256))
       .add("checkpoint_every", &O::checkpoint_every,
            OptionSpec("updates between checkpoints").range(1, 1e6));
 }
@@ -253,7 +259,7 @@ class PpoTrainer {
     std::vector<VectorRequest> requests(count_);
     for (int i = 0; i < count_; ++i) requests[i] = resetRequest(i);
     environments_->run(requests);
-    torch::Tensor features = encode(inputs_);
+    features_ = encode(0, count_);
 
     const auto start = Clock::now();
     const std::int64_t start_steps = progress_.env_steps;
@@ -261,15 +267,14 @@ class PpoTrainer {
       const torch::Tensor std = actionStd();
       ended_.clear();
       environment_seconds_ = inference_seconds_ = 0.0;
-      for (int t = 0; t < steps_per_env; ++t) {
-        features = collectStep(t, std, features, rollout, requests);
-      }
+      collectRollout(steps_per_env, std, rollout);
       torch::Tensor last_values;
       {
         torch::NoGradGuard no_grad;
-        last_values = policy_->value(features, rig_);
+        last_values = policy_->value(features_, rig_);
       }
       const auto optimisation_start = Clock::now();
+      setLibtorchThreads(options_.threads);
       PpoUpdate update = optimise(rollout, last_values, steps_per_env, std);
       update.optimisation_seconds = secondsSince(optimisation_start);
       update.environment_seconds = environment_seconds_;
@@ -296,6 +301,131 @@ class PpoTrainer {
   }
 
  private:
+  // A contiguous range of environments that step together: [first, last).
+  struct Group {
+    int first = 0, last = 0;
+  };
+
+  // With overlap two groups (one for a single environment): while one group's environments
+  // render, the trainer runs inference for the other, so the cores are not idle in turn.
+  // Without: one group of all, stepped and encoded together.
+  static std::vector<Group> groupsOf(int count, bool overlap) {
+    if (count == 1 || !overlap) return {{0, count}};
+    const int half = (count + 1) / 2;
+    return {{0, half}, {half, count}};
+  }
+
+  // steps_per_env rounds of every environment into `rollout`. A group acts (samples its actions
+  // and starts its steps), then the other group's last steps are waited for and read: the
+  // inference of one group overlaps the rendering of the other. With two groups, inference runs
+  // on one libtorch thread (the other cores render); the update gets options_.threads again.
+  void collectRollout(int steps_per_env, const torch::Tensor& std, Rollout& rollout) {
+    const std::vector<Group> groups = groupsOf(count_, options_.overlap);
+    if (groups.size() == 1) {
+      for (int t = 0; t < steps_per_env; ++t) {
+        act(t, groups[0], std, rollout);
+        finishStep(t, groups[0], rollout);
+      }
+      return;
+    }
+    torch::set_num_threads(1);
+    const Group &first = groups[0], &second = groups[1];
+    for (int t = 0; t < steps_per_env; ++t) {
+      act(t, first, std, rollout);
+      if (t > 0) finishStep(t - 1, second, rollout);  // while the first group renders
+      act(t, second, std, rollout);
+      finishStep(t, first, rollout);  // while the second group renders
+    }
+    finishStep(steps_per_env - 1, second, rollout);
+  }
+
+  // Samples the actions of `group` from the current features, stores row t of its environments
+  // and starts their steps.
+  void act(int t, const Group& group, const torch::Tensor& std, Rollout& rollout) {
+    const int n = group.last - group.first;
+    const torch::Tensor features = features_.slice(0, group.first, group.last);
+    const torch::Tensor rig = rig_.slice(0, group.first, group.last);
+    torch::Tensor mean, values;
+    {
+      const auto start = Clock::now();
+      torch::NoGradGuard no_grad;
+      mean = policy_->actionMean(features, rig);
+      values = policy_->value(features, rig);
+      inference_seconds_ += secondsSince(start);
+    }
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    torch::Tensor actions = torch::empty({n, 2});
+    {
+      auto in = mean.accessor<float, 2>();
+      auto sigma = std.accessor<float, 1>();
+      auto out = actions.accessor<float, 2>();
+      for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(progress_.random);
+      }
+    }
+    const auto rows = torch::indexing::Slice(t * count_ + group.first, t * count_ + group.last);
+    rollout.features.index_put_({rows}, features);
+    if (options_.fine_tune) {
+      rollout.inputs.index_put_({rows}, inputs_.slice(0, group.first, group.last));
+    }
+    rollout.rig.index_put_({rows}, rig);
+    rollout.actions.index_put_({rows}, actions);
+    rollout.log_probs.index_put_({rows}, gaussianLogProbability(actions, mean, std));
+    rollout.values.index_put_({rows}, values);
+    auto chosen = actions.accessor<float, 2>();
+    for (int i = group.first; i < group.last; ++i) {
+      last_moves_[i] = {chosen[i - group.first][0], chosen[i - group.first][1]};
+      environments_->start(i, VectorRequest::stepBy(last_moves_[i]));
+    }
+  }
+
+  // Waits for the steps `group` started in round t, encodes what they show, books rewards and
+  // ended episodes (bootstrapping truncations), and resets the ended environments.
+  void finishStep(int t, const Group& group, Rollout& rollout) {
+    waitFor(group);
+    progress_.env_steps += group.last - group.first;
+    encodeInto(group);
+    bool any_ended = false;
+    for (int i = group.first; i < group.last; ++i) {
+      const StepResult& result = environments_->result(i);
+      double reward = result.reward;
+      PpoEpisode& episode = episodes_[i];
+      episode.reward += result.reward;
+      ++episode.steps;
+      const bool ended = result.terminated || result.truncated;
+      if (result.truncated && !result.terminated) {
+        // Time ran out, not the task: bootstrap with the value of where the episode stopped.
+        torch::NoGradGuard no_grad;
+        reward +=
+            options_.gamma *
+            policy_->value(features_.slice(0, i, i + 1), rig_.slice(0, i, i + 1)).item<double>();
+      }
+      rollout.rewards[t * count_ + i] = reward;
+      rollout.dones[t * count_ + i] = ended ? 1.0f : 0.0f;
+      if (ended) {
+        episode.success = result.terminated;
+        episode.index = ++progress_.episodes;
+        episode.env_steps = progress_.env_steps;
+        appendEpisode(episode);
+        ended_.push_back(episode);
+        if (callbacks_.on_episode) callbacks_.on_episode(episode);
+        environments_->start(i, resetRequest(i));
+        any_ended = true;
+      }
+    }
+    if (any_ended) {
+      waitFor(group);
+      encodeInto(group);
+    }
+  }
+
+  // Waits until every environment of `group` has answered.
+  void waitFor(const Group& group) {
+    const auto start = Clock::now();
+    for (int i = group.first; i < group.last; ++i) environments_->wait(i);
+    environment_seconds_ += secondsSince(start);
+  }
+
   // The sigmas [2] this update's rollout samples with: the learned ones, or the schedule's.
   torch::Tensor actionStd() {
     if (options_.policy.learned_std) return policy_->logStd().detach().exp();
@@ -326,95 +456,22 @@ class PpoTrainer {
                   rig_.data_ptr<float>() + i * kRigInputs);
   }
 
-  torch::Tensor encode(const torch::Tensor& inputs) {
+  // The encoder's features of the observations of environments [first, last). With overlap a
+  // single observation goes in twice: libtorch 1.13 runs batches of one through its slower
+  // native convolutions (im2col + BLAS), larger ones through oneDNN.
+  torch::Tensor encode(int first, int last) {
     const auto start = Clock::now();
     torch::NoGradGuard no_grad;
-    torch::Tensor features = policy_->features(inputs);
+    const torch::Tensor inputs = inputs_.slice(0, first, last);
+    torch::Tensor features = options_.overlap && last - first == 1
+                                 ? policy_->features(inputs.repeat({2, 1, 1, 1})).slice(0, 0, 1)
+                                 : policy_->features(inputs);
     inference_seconds_ += secondsSince(start);
     return features;
   }
 
-  void runEnvironments(const std::vector<VectorRequest>& requests) {
-    const auto start = Clock::now();
-    environments_->run(requests);
-    environment_seconds_ += secondsSince(start);
-  }
-
-  // One step of every environment: sample, store, step, bootstrap truncations, reset ended
-  // episodes. Returns the features of the next observations.
-  torch::Tensor collectStep(int t, const torch::Tensor& std, const torch::Tensor& features,
-                            Rollout& rollout, std::vector<VectorRequest>& requests) {
-    torch::Tensor mean, values;
-    {
-      const auto start = Clock::now();
-      torch::NoGradGuard no_grad;
-      mean = policy_->actionMean(features, rig_);
-      values = policy_->value(features, rig_);
-      inference_seconds_ += secondsSince(start);
-    }
-    std::normal_distribution<float> noise(0.0f, 1.0f);
-    torch::Tensor actions = torch::empty({count_, 2});
-    {
-      auto in = mean.accessor<float, 2>();
-      auto sigma = std.accessor<float, 1>();
-      auto out = actions.accessor<float, 2>();
-      for (int i = 0; i < count_; ++i) {
-        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(progress_.random);
-      }
-    }
-    const auto rows = torch::indexing::Slice(t * count_, (t + 1) * count_);
-    rollout.features.index_put_({rows}, features);
-    if (options_.fine_tune) rollout.inputs.index_put_({rows}, inputs_);
-    rollout.rig.index_put_({rows}, rig_);
-    rollout.actions.index_put_({rows}, actions);
-    rollout.log_probs.index_put_({rows}, gaussianLogProbability(actions, mean, std));
-    rollout.values.index_put_({rows}, values);
-
-    {
-      auto chosen = actions.accessor<float, 2>();
-      for (int i = 0; i < count_; ++i) {
-        last_moves_[i] = {chosen[i][0], chosen[i][1]};
-        requests[i] = VectorRequest::stepBy(last_moves_[i]);
-      }
-    }
-    runEnvironments(requests);
-    progress_.env_steps += count_;
-    torch::Tensor next_features = encode(inputs_);
-
-    bool any_ended = false;
-    for (int i = 0; i < count_; ++i) {
-      const StepResult& result = environments_->result(i);
-      double reward = result.reward;
-      PpoEpisode& episode = episodes_[i];
-      episode.reward += result.reward;
-      ++episode.steps;
-      const bool ended = result.terminated || result.truncated;
-      if (result.truncated && !result.terminated) {
-        // Time ran out, not the task: bootstrap with the value of where the episode stopped.
-        torch::NoGradGuard no_grad;
-        reward += options_.gamma *
-                  policy_->value(next_features.slice(0, i, i + 1), rig_.slice(0, i, i + 1))
-                      .item<double>();
-      }
-      rollout.rewards[t * count_ + i] = reward;
-      rollout.dones[t * count_ + i] = ended ? 1.0f : 0.0f;
-      requests[i] = VectorRequest::idle();
-      if (ended) {
-        episode.success = result.terminated;
-        episode.index = ++progress_.episodes;
-        episode.env_steps = progress_.env_steps;
-        appendEpisode(episode);
-        ended_.push_back(episode);
-        if (callbacks_.on_episode) callbacks_.on_episode(episode);
-        requests[i] = resetRequest(i);
-        any_ended = true;
-      }
-    }
-    if (any_ended) {
-      runEnvironments(requests);
-      next_features = encode(inputs_);
-    }
-    return next_features;
+  void encodeInto(const Group& group) {
+    features_.slice(0, group.first, group.last).copy_(encode(group.first, group.last));
   }
 
   // Generalised advantage estimates over each environment's time line of the rollout.
@@ -619,9 +676,12 @@ class PpoTrainer {
     }
     std::ifstream in(dir / "checkpoint.json");
     const nlohmann::json state = nlohmann::json::parse(in);
-    if (state.at("options") != resumeKey(options_)) {
+    nlohmann::json stored = state.at("options");
+    // Checkpoints from before the overlap option collected without overlap.
+    if (!stored.contains("overlap")) stored["overlap"] = false;
+    if (stored != resumeKey(options_)) {
       throw InvalidArgumentError("the checkpoint in " + run_dir_ +
-                                 " was made with other options (" + state.at("options").dump() +
+                                 " was made with other options (" + stored.dump() +
                                  "): use another run directory or the same options");
     }
     torch::serialize::InputArchive archive, model, actor, critic;
@@ -657,6 +717,7 @@ class PpoTrainer {
   std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
+  torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i
   std::vector<Action> last_moves_;
   std::vector<InputScratch> scratch_;
   std::vector<PpoEpisode> episodes_;  // in flight, per environment

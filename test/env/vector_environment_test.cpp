@@ -86,6 +86,41 @@ TEST(VectorEnvironmentTest, AnErrorNamesTheEnvironmentAndKeepsTheOthersState) {
   EXPECT_THROW(envs.run({VectorRequest::idle()}), InvalidArgumentError);  // wrong count
 }
 
+// start() returns at once and wait() gives the answer: one environment can work while the
+// caller starts or waits for another; the answers equal run()'s. A busy environment refuses a
+// second start(), and wait() throws an environment's error with its name.
+TEST(VectorEnvironmentTest, StartAndWaitGiveWhatRunGives) {
+  VectorEnvironment started(2, inProcess()), ran(2, inProcess());
+  ran.run({VectorRequest::resetTo(11), VectorRequest::resetTo(12)});
+  ran.run({VectorRequest::stepBy({0.4, 0.0}), VectorRequest::stepBy({0.0, 0.3})});
+  started.start(0, VectorRequest::resetTo(11));
+  started.start(1, VectorRequest::resetTo(12));
+  EXPECT_THROW(started.start(1, VectorRequest::stepBy({0.0, 0.3})), InvalidStateError);
+  started.wait(0);
+  started.start(0, VectorRequest::stepBy({0.4, 0.0}));  // while environment 1 may still reset
+  started.wait(1);
+  started.start(1, VectorRequest::stepBy({0.0, 0.3}));
+  started.wait(1);
+  started.wait(0);
+  started.wait(0);  // nothing pending: returns at once
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(started.result(i).info.step_index, 1) << i;
+    EXPECT_EQ(started.result(i).info.occlusion.total_pixels,
+              ran.result(i).info.occlusion.total_pixels);
+    EXPECT_TRUE(sameImage(started.result(i).observation->rgb, ran.result(i).observation->rgb));
+  }
+  EXPECT_THROW(started.start(0, VectorRequest::idle()), InvalidArgumentError);
+  VectorEnvironment fresh(1, inProcess());
+  fresh.start(0, VectorRequest::stepBy({1.0, 0.0}));  // no episode yet
+  try {
+    fresh.wait(0);
+    FAIL() << "a step before any reset was accepted";
+  } catch (const InvalidStateError& error) {
+    EXPECT_NE(std::string(error.what()).find("environment 0"), std::string::npos) << error.what();
+  }
+  fresh.wait(0);  // the error was reported once
+}
+
 TEST(VectorEnvironmentTest, AFactoryErrorReachesTheCaller) {
   EXPECT_THROW(VectorEnvironment(2,
                                  [](int i) -> std::unique_ptr<EnvironmentInterface> {

@@ -156,6 +156,51 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   fs::remove_all(dir);
 }
 
+// With overlap (half of the environments render while the other half is encoded), on three
+// environments (groups of two and one): every step is booked once, the run repeats itself, and a
+// run without overlap neither resumes with it nor is refused when its checkpoint predates the
+// option.
+TEST(PpoTest, OverlapBooksEveryStepAndRepeatsItself) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo_overlap");
+  PpoOptions options = shortRun(writeBackbone(dir));
+  options.overlap = true;
+  options.total_steps = 36;  // two updates of 6 rounds of 3 environments
+  std::vector<std::int64_t> update_steps;
+  int episode_steps = 0;
+  PpoCallbacks count;
+  count.on_update = [&](const PpoUpdate& u) { update_steps.push_back(u.env_steps); };
+  count.on_episode = [&](const PpoEpisode& e) {
+    EXPECT_GE(e.steps, 1);
+    EXPECT_LE(e.steps, 8);
+    episode_steps += e.steps;
+  };
+  PolicyNetwork trained = trainPpo(options, 3, inProcess(), {}, (dir / "run").string(), count);
+  EXPECT_EQ(update_steps, (std::vector<std::int64_t>{18, 36}));
+  EXPECT_GT(episode_steps, 0);
+  EXPECT_LE(episode_steps, 36);
+  PolicyNetwork again = trainPpo(options, 3, inProcess(), {}, (dir / "again").string());
+  EXPECT_TRUE(sameParameters(trained, again)) << "the same seed gave another policy";
+
+  options.overlap = false;
+  const fs::path plain = dir / "plain";
+  options.total_steps = 18;
+  trainPpo(options, 3, inProcess(), {}, plain.string());
+  PpoOptions with_overlap = options;
+  with_overlap.overlap = true;
+  with_overlap.total_steps = 36;
+  EXPECT_THROW(trainPpo(with_overlap, 3, inProcess(), {}, plain.string()), InvalidArgumentError);
+  // A checkpoint written before the option existed (no "overlap") resumes without overlap.
+  nlohmann::json state;
+  std::ifstream(plain / "checkpoint.json") >> state;
+  state["options"].erase("overlap");
+  std::ofstream(plain / "checkpoint.json") << state.dump(2);
+  options.total_steps = 36;
+  update_steps.clear();
+  trainPpo(options, 3, inProcess(), {}, plain.string(), count);
+  EXPECT_EQ(update_steps, (std::vector<std::int64_t>{36}));
+  fs::remove_all(dir);
+}
+
 // The last update's sigma of a short run with entropy coefficient `entropy`.
 double lastSigma(PpoOptions options, double entropy, const fs::path& run) {
   options.entropy_coefficient = entropy;

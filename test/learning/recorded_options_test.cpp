@@ -75,6 +75,7 @@ TEST(RecordedOptionsTest, PolicyManifestsReadBackAndAreWrittenAlike) {
     ppoOptionTable().applyJson(recorded, options);
     nlohmann::json expected = manifest.at("trained_with");
     expected["policy"]["unit_mean"] = false;  // recorded before the option: the free length
+    expected["overlap"] = false;              // recorded before the option: no overlap
     EXPECT_EQ(options.toJson(), expected) << name;
     EXPECT_NO_THROW(options.validate()) << name;
     EXPECT_NO_THROW(loadPolicy("models/" + name + ".pt")) << name;

@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <thread>
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "render/osmesa/osmesa_library.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -255,6 +259,60 @@ TEST(OsMesaRendererTest, TwoRenderersInterleaveOnOneThread) {
     EXPECT_TRUE(sameBytes(b.amodal_bits, second_reference.amodal_bits));
   }
   EXPECT_NEAR(first_reference.depth.at<float>(kSize / 2, kSize / 2), 2.5, kDepthTolerance);
+}
+
+// Renderers on several threads at once (each thread on its own copy of libOSMesa, see
+// osmesa_library.hpp) render what one renderer renders alone, and one made on a thread that has
+// ended can be destroyed from another while a renderer there keeps working.
+TEST(OsMesaRendererTest, RenderersOnSeveralThreadsMatchOneThread) {
+  const Mesh far_box = makeCube(0.5f);
+  const Mesh near_box = makeCube(0.2f);
+  const std::vector<PlacedMesh> scene = {place(far_box, Eigen::Vector3d::Zero()),
+                                         place(near_box, Eigen::Vector3d(1.0, 0.3, 0.2))};
+  const Eigen::Isometry3d pose = lookAt(Eigen::Vector3d(3.0, 1.0, 1.0), Eigen::Vector3d::Zero());
+  const auto local = makeOsMesaRenderer(testIntrinsics());
+  local->setScene(scene);
+  RenderBuffers reference;
+  local->render(pose, reference);
+
+  constexpr int kThreads = 3;
+  std::vector<std::unique_ptr<Renderer>> renderers(kThreads);
+  std::vector<RenderBuffers> results(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      renderers[t] = makeOsMesaRenderer(testIntrinsics());
+      renderers[t]->setScene(scene);
+      for (int round = 0; round < 20; ++round) renderers[t]->render(pose, results[t]);
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  for (int t = 0; t < kThreads; ++t) {
+    EXPECT_TRUE(sameBytes(results[t].rgb, reference.rgb)) << t;
+    EXPECT_TRUE(sameBytes(results[t].depth, reference.depth)) << t;
+    EXPECT_TRUE(sameBytes(results[t].instance, reference.instance)) << t;
+    EXPECT_TRUE(sameBytes(results[t].amodal_bits, reference.amodal_bits)) << t;
+  }
+  renderers.clear();  // destroyed here, not on the threads that made them
+  RenderBuffers again;
+  local->render(pose, again);
+  EXPECT_TRUE(sameBytes(again.rgb, reference.rgb));
+  EXPECT_TRUE(sameBytes(again.amodal_bits, reference.amodal_bits));
+}
+
+// Two threads holding leases at once get different copies; one thread keeps its copy.
+TEST(OsMesaLibraryTest, ThreadsRenderingAtOnceGetCopiesOfTheirOwn) {
+  const char* shared = std::getenv("OCCLUSION_ENV_SHARED_LLVMPIPE");
+  if (shared != nullptr && std::string(shared) == "1") GTEST_SKIP() << "copies turned off";
+  const osmesa::OsMesaLease here(std::this_thread::get_id()), again(std::this_thread::get_id());
+  EXPECT_EQ(&here.library(), &again.library());
+  const osmesa::OsMesaLibrary* there = nullptr;
+  std::thread([&] {
+    const osmesa::OsMesaLease lease(std::this_thread::get_id());
+    there = &lease.library();
+  }).join();
+  EXPECT_NE(there, &here.library());
+  EXPECT_NE(there->create_context_attribs, here.library().create_context_attribs);
 }
 
 TEST(OsMesaRendererTest, RejectsTooManyObjectsAndMissingMeshes) {

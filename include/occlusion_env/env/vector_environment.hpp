@@ -6,6 +6,7 @@
 //   VectorEnvironment envs(4, [&](int i) { return std::make_unique<Environment>(options); });
 //   envs.run(requests);  // requests[i]: reset(seed) | step(action) | idle
 //   envs.result(i)       // what environment i answered last
+//   envs.start(i, request); ...; envs.wait(i);  // one environment works while the caller does
 #pragma once
 
 #include <condition_variable>
@@ -56,6 +57,14 @@ class VectorEnvironment {
   /// request succeeded keep their new state.
   void run(const std::vector<VectorRequest>& requests);
 
+  /// Environment i starts on `request` (not idle) and the call returns at once: the caller can
+  /// work (e.g. run inference for other environments) while it renders. InvalidStateError if
+  /// environment i has not answered its last request yet (wait() for it first).
+  void start(int index, const VectorRequest& request);
+  /// Returns when environment i has answered the request start() gave it (at once if none is
+  /// pending); throws its error as run() does, naming the environment.
+  void wait(int index);
+
   /// Environment i's answer to its last reset or step. Its observation is valid until the next
   /// run() that resets or steps environment i.
   const StepResult& result(int index) const { return workers_.at(index)->result; }
@@ -72,12 +81,14 @@ class VectorEnvironment {
     std::string description;
   };
   void serve(int index, const Factory& factory);
+  // Throws worker i's error, if any, naming the environment; clears it.
+  void rethrowError(int index);
 
   Observer observer_;
   std::vector<std::unique_ptr<Worker>> workers_;
   std::mutex mutex_;
   std::condition_variable work_ready_, work_done_;
-  int pending_ = 0;
+  int pending_ = 0;  // factories still making their environment
   bool stopping_ = false;
 };
 

@@ -29,6 +29,10 @@ struct PpoOptions {
   std::string backbone_path;      // the pretrained multi-task network (.pt + .json)
   bool actor_from_escape = true;  // start the actor at the network's escape head
   bool fine_tune = false;         // train the encoder too (with backbone_learning_rate)
+  // With 2+ environments, half of them render while the trainer runs inference for the other
+  // half, on one libtorch thread (the same algorithm, another order of the random draws); off:
+  // all step, then all are encoded as one batch (BENCHMARKS.md, "PPO training").
+  bool overlap = false;
   PolicyConfig policy;
   std::string reward = "union";  // what the environments were set up with (recorded only)
 
@@ -50,7 +54,10 @@ struct PpoOptions {
   bool normalize_advantages = true;
 
   std::uint64_t seed = 1;
-  int threads = 0;            // libtorch threads; 0 = the machine's cores
+  // libtorch threads; 0 = the machine's cores. One by default: the networks' work at 64 px is
+  // small, and two threads that must meet at every operation stall whenever another process
+  // has one of the cores (BENCHMARKS.md, "PPO training").
+  int threads = 1;
   int checkpoint_every = 10;  // updates
 
   /// Throws InvalidArgumentError naming the first bad option (the tables' ranges and choices,
@@ -95,9 +102,10 @@ struct PpoUpdate {
   double mean_episode_steps = 0.0;
   double success_rate = 0.0;
   double steps_per_second = 0.0;  // environment steps, including inference and the update
-  // Where this update's wall time went [s]: stepping and resetting the environments (including
-  // the observations' conversion on their threads), the network's forward passes while
-  // collecting, and the optimisation.
+  // Where this update's wall time went [s]: waiting for the environments to step and reset
+  // (including the observations' conversion on their threads; with overlap one half renders
+  // while the trainer runs inference for the other, and only the wait that this does not hide
+  // counts), the network's forward passes while collecting, and the optimisation.
   double environment_seconds = 0.0;
   double inference_seconds = 0.0;
   double optimisation_seconds = 0.0;

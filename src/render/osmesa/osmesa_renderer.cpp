@@ -33,6 +33,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/render/osmesa_renderer.hpp"
+#include "osmesa_library.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -293,11 +294,12 @@ std::recursive_mutex& contextLifecycleMutex() {
   return mutex;
 }
 
+// Destroys a context with the copy of libOSMesa that made it (osmesa_library.hpp).
 struct ContextDeleter {
+  const osmesa::OsMesaLibrary* library = nullptr;
   void operator()(osmesa_context* context) const {
     const std::lock_guard<std::recursive_mutex> lock(contextLifecycleMutex());
-    if (OSMesaGetCurrentContext() == context) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
-    OSMesaDestroyContext(context);
+    osmesa::destroyContext(*library, context);
   }
 };
 
@@ -383,6 +385,7 @@ class OsMesaRenderer final : public Renderer {
 
   CameraIntrinsics intrinsics_;
   std::thread::id owner_thread_;
+  osmesa::OsMesaLease llvmpipe_;  // this thread's copy of libOSMesa; outlives context_
   std::array<std::uint8_t, kContextBufferSide * kContextBufferSide * 4> context_buffer_{};
   std::unique_ptr<osmesa_context, ContextDeleter> context_;
   Eigen::Matrix4d clip_from_optical_;
@@ -416,6 +419,8 @@ class OsMesaRenderer final : public Renderer {
 OsMesaRenderer::OsMesaRenderer(const CameraIntrinsics& intrinsics)
     : intrinsics_(intrinsics),
       owner_thread_(std::this_thread::get_id()),
+      llvmpipe_(owner_thread_),
+      context_(nullptr, ContextDeleter{&llvmpipe_.library()}),
       clip_from_optical_(clipFromOptical(intrinsics)) {
   const CameraIntrinsics& k = intrinsics_;
   if (k.width < 1 || k.height < 1 || !(k.fx > 0.0) || !(k.fy > 0.0) || !std::isfinite(k.fx) ||
@@ -457,7 +462,7 @@ void OsMesaRenderer::createContext() {
                             OSMESA_CONTEXT_MINOR_VERSION,
                             3,
                             0};
-  context_.reset(OSMesaCreateContextAttribs(attributes, nullptr));
+  context_.reset(llvmpipe_.library().create_context_attribs(attributes, nullptr));
   if (!context_) throw RenderError("renderer: cannot create an OSMesa OpenGL 3.3 core context");
   makeCurrent();
 
@@ -532,9 +537,8 @@ void OsMesaRenderer::makeCurrent() {
   if (std::this_thread::get_id() != owner_thread_) {
     throw RenderError("renderer: called from a thread other than the one that created it");
   }
-  if (OSMesaGetCurrentContext() == context_.get()) return;
-  if (!OSMesaMakeCurrent(context_.get(), context_buffer_.data(), GL_UNSIGNED_BYTE,
-                         kContextBufferSide, kContextBufferSide)) {
+  if (!osmesa::makeCurrent(llvmpipe_.library(), context_.get(), context_buffer_.data(),
+                           kContextBufferSide, kContextBufferSide)) {
     throw RenderError("renderer: OSMesaMakeCurrent failed");
   }
 }
