@@ -218,7 +218,6 @@ class PpoTrainer {
     options_.validate();
     fs::create_directories(run_dir_);
     LoadedModel pretrained = loadModel(options_.backbone_path);
-    input_size_ = pretrained.network->config().input_size;
     input_format_ = pretrained.network->config().inputFormat();
     policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
     policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
@@ -242,7 +241,7 @@ class PpoTrainer {
     progress_.random.seed(options_.seed);
     resume();
 
-    inputs_ = torch::zeros({count_, 4, input_size_, input_size_});
+    inputs_ = torch::zeros({count_, 4, input_format_.size, input_format_.size});
     rig_ = torch::zeros({count_, kRigInputs});
     last_moves_.assign(count_, Action{});
     scratch_.resize(count_);
@@ -255,7 +254,7 @@ class PpoTrainer {
     const int steps_per_env = (options_.steps_per_update + count_ - 1) / count_;
     const int feature_size = policy_->backbone()->config().bottleneckChannels();
     Rollout rollout;
-    rollout.allocate(steps_per_env * count_, feature_size, input_size_, options_.fine_tune);
+    rollout.allocate(steps_per_env * count_, feature_size, input_format_.size, options_.fine_tune);
     std::vector<VectorRequest> requests(count_);
     for (int i = 0; i < count_; ++i) requests[i] = resetRequest(i);
     environments_->run(requests);
@@ -449,7 +448,7 @@ class PpoTrainer {
 
   // On environment i's thread: its observation into batch row i.
   void observe(int i, const StepResult& result) {
-    const std::size_t plane = 4 * static_cast<std::size_t>(input_size_) * input_size_;
+    const std::size_t plane = 4 * static_cast<std::size_t>(input_format_.size) * input_format_.size;
     writeNetworkInput(result.observation->rgb, result.observation->depth, input_format_,
                       scratch_[i], inputs_.data_ptr<float>() + i * plane);
     writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
@@ -711,7 +710,6 @@ class PpoTrainer {
   ResetOptions reset_;
   std::string run_dir_;
   PpoCallbacks callbacks_;
-  int input_size_ = 64;
   InputFormat input_format_;  // the pretrained network's
   PolicyNetwork policy_{nullptr};
   std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
