@@ -37,8 +37,7 @@ def main(argv):
     target = os.path.join(root, "models", name + ".pt")
     shutil.copyfile(source, target)
     manifest["network"].update(changes)
-    if "training" in manifest:  # the weights were trained with the source's network
-        manifest["training"]["network"] = json.load(open(source_json))["network"]
+    # manifest["training"]["network"] stays the source's: the network the weights were trained as.
     manifest["file"] = name + ".pt"
     manifest["derived_from"] = {"file": os.path.basename(source), "sha256": sha256(source),
                                 "changed": changes, "weights": "unchanged"}
