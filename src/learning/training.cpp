@@ -333,6 +333,9 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                           "same network) instead of random ones: a new cosine schedule and a "
                           "fresh optimizer on them (a warm restart); \"\": random weights"))
           .add("seed", &O::seed, OptionSpec("weights, shuffling and augmentation"))
+          .add("keep_epochs", &O::keep_epochs,
+               OptionSpec("also keep every epoch's model as epoch_<k>.pt beside best.pt, to choose "
+                          "one afterwards by another figure (does not change the run)"))
           .add("threads", &O::threads, OptionSpec("libtorch threads; 0 = all cores").range(0, 256));
   return table;
 }
@@ -344,7 +347,8 @@ void TrainingOptions::validate() const {
 
 nlohmann::json TrainingOptions::toJson() const {
   nlohmann::json json = trainingOptionTable().toJson(*this);
-  json.erase("threads");  // does not change the result
+  json.erase("threads");      // does not change the result
+  json.erase("keep_epochs");  // nor does this
   // Only when set, so that runs from random weights keep the identity they always had.
   if (init_from.empty()) json.erase("init_from");
   if (shift == 0.0) json.erase("shift");
@@ -613,6 +617,10 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     if (metrics.val_iou > progress.best_iou) {
       progress.best_iou = metrics.val_iou;
       saveModel(network, (files.dir / "best.pt").string(),
+                bestModelInfo(data, options, init_manifest, metrics));
+    }
+    if (options.keep_epochs) {
+      saveModel(network, (files.dir / ("epoch_" + std::to_string(epoch) + ".pt")).string(),
                 bestModelInfo(data, options, init_manifest, metrics));
     }
     writeCheckpoint(network, optimizer, files, identity, progress);

@@ -260,6 +260,49 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   }
 }
 
+// keep_epochs keeps each epoch's model with its manifest; it does not change the run, so a run
+// with it resumes one without it and ends with the same weights.
+TEST(LearningTest, KeptEpochsAreEachEpochsModel) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_epochs_data");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  const fs::path plain_dir = temporaryDir("occlusion_env_learning_epochs_plain");
+  const auto plain = train(data, tinyTraining(3), plain_dir.string(), {});
+  EXPECT_FALSE(fs::exists(plain_dir / "epoch_1.pt"));
+
+  TrainingOptions keeping = tinyTraining(3);
+  keeping.keep_epochs = true;
+  const fs::path kept_dir = temporaryDir("occlusion_env_learning_epochs_kept");
+  TrainingCallbacks interrupt;
+  interrupt.on_epoch = [](const EpochMetrics& m) {
+    if (m.epoch == 2) throw std::runtime_error("interrupted");
+  };
+  EXPECT_THROW(train(data, tinyTraining(3), kept_dir.string(), interrupt), std::runtime_error);
+  const auto kept = train(data, keeping, kept_dir.string(), {});  // resumes the run without it
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_NEAR(kept.back().train_loss, plain.back().train_loss,
+              1e-6 * std::abs(plain.back().train_loss));
+  EXPECT_FALSE(fs::exists(kept_dir / "epoch_2.pt")) << "epochs before it are not made up";
+  const std::string last = (kept_dir / "epoch_3.pt").string();
+  ASSERT_TRUE(fs::exists(last));
+  EXPECT_EQ(loadModel(last).manifest.at("epoch").get<int>(), 3);
+  EXPECT_DOUBLE_EQ(loadModel(last).manifest.at("validation").at("val_iou").get<double>(),
+                   kept.back().val_iou);
+  EXPECT_FALSE(loadModel(last).manifest.at("training").contains("keep_epochs"))
+      << "not part of what the run is";
+  // The best epoch's file holds best.pt's weights.
+  int best_epoch = 1;
+  for (const EpochMetrics& m : kept) {
+    if (m.val_iou > kept[best_epoch - 1].val_iou) best_epoch = m.epoch;
+  }
+  if (best_epoch == 3) {
+    EXPECT_LT(largestParameterDifference(last, (kept_dir / "best.pt").string()), 1e-12);
+  } else {
+    EXPECT_GT(largestParameterDifference(last, (kept_dir / "best.pt").string()), 0.0);
+  }
+  for (const fs::path& dir : {data_dir, plain_dir, kept_dir}) fs::remove_all(dir);
+}
+
 // A model is checked on every frame of other scenes than it was trained on; its own datasets are
 // refused.
 TEST(LearningTest, ChecksRunOnOtherScenesOnly) {

@@ -79,6 +79,10 @@ struct TrainingOptions {
   // A model file (saveModel) of the same network to start from instead of random weights: the
   // schedule and the optimizer start afresh on it (a warm restart). Empty: random weights.
   std::string init_from;
+  // Also keep every epoch's weights as epoch_<k>.pt (with its manifest) beside best.pt, so that a
+  // model can be chosen afterwards by something other than validation IoU (e.g. the agent's steps
+  // on validation scenes, scripts/dagger.sh). Does not change the run.
+  bool keep_epochs = false;
 
   /// Throws InvalidArgumentError naming the first bad option (the tables' ranges and choices).
   void validate() const;
@@ -123,7 +127,8 @@ struct TrainingCallbacks {
 };
 
 /// Trains in `run_dir`: checkpoint.pt after every epoch (and resumes from it when present and
-/// made with the same options and data), log.csv, best.pt/best.json (by validation IoU). Returns
+/// made with the same options and data), log.csv, best.pt/best.json (by validation IoU), and
+/// with keep_epochs epoch_<k>.pt/.json for every epoch. Returns
 /// the metrics of every epoch (resumed ones included, from the log).
 std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
                                 const std::string& run_dir,
