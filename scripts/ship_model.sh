@@ -1,15 +1,20 @@
 #!/usr/bin/env bash
 # Copies a training run's model into models/ under NAME and records it in models/MANIFEST.md:
 # what it is, from which data, with which command, its metrics and its sha256. A network run
-# (occlusion_train) ships best.pt; a PPO run (occlusion_train_ppo) ships policy.pt with the end
-# points of its training curves (the last 500 episodes) and the sha256 of its backbone.
+# (occlusion_train) ships best.pt, or chosen.pt where scripts/dagger.sh chose one by the agent's
+# steps on validation scenes (with that choice: selection.csv); a PPO run (occlusion_train_ppo)
+# ships policy.pt with the end points of its training curves (the last 500 episodes) and the
+# sha256 of its backbone. Models derived without training (scripts/derive_model.py) keep their
+# own table.
 # Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 run=${1:?usage: ship_model.sh RUN_DIR NAME COMMAND}
 name=${2:?usage: ship_model.sh RUN_DIR NAME COMMAND}
 command=${3:?usage: ship_model.sh RUN_DIR NAME COMMAND}
-if [[ -f "$run/best.pt" && -f "$run/best.json" ]]; then
+if [[ -f "$run/chosen.pt" && -f "$run/chosen.json" ]]; then
+  model=chosen
+elif [[ -f "$run/best.pt" && -f "$run/best.json" ]]; then
   model=best
 elif [[ -f "$run/policy.pt" && -f "$run/policy.json" ]]; then
   model=policy
@@ -39,6 +44,18 @@ if "dataset" in manifest:
     # A relative dataset path is relative to the source tree, where the trainer ran.
     dataset_json = os.path.join(root, manifest["dataset"], "dataset.json")
     manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
+if model == "chosen":
+    # The DAgger round's choice: every candidate's mean steps on the validation scenes.
+    rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))
+    chosen = min(rows, key=lambda r: float(r["mean_steps"]))
+    manifest["chosen_by"] = {
+        "scenes": "config/scenes/validation_sweethome3d.yaml (seeds 970000..970049), "
+                  "predicted_escape, 50 steps at most (scripts/dagger.sh)",
+        "candidates": [{"model": r["candidate"], "mean_steps": float(r["mean_steps"]),
+                        "successes": int(r["successes"]), "episodes": int(r["episodes"])}
+                       for r in rows],
+        "chosen": chosen["candidate"],
+    }
 if manifest.get("kind") == "ppo_policy":
     episodes = list(csv.DictReader(open(os.path.join(run, "training_episodes.csv"))))[-500:]
     manifest["training_end"] = {
@@ -68,11 +85,14 @@ lines = ["# Shipped models", "",
          "`<name>.json` (network, training options, dataset options, validation metrics, command).", ""]
 lines += ["| model | network | dataset | epoch | val IoU | gradient / escape angle | size | sha256 |",
           "| --- | --- | --- | ---: | ---: | --- | ---: | --- |"]
-policies = []
+policies, derived, chosen_notes = [], [], []
 for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     m = json.load(open(path))
     if m.get("kind") == "ppo_policy":
         policies.append(m)
+        continue
+    if "derived_from" in m:
+        derived.append(m)
         continue
     if "network" not in m:
         continue
@@ -87,10 +107,30 @@ for path in sorted(glob.glob(os.path.join(models, "*.json"))):
                  f"{','.join(ds['categories']) or 'any'}, seeds {ds['first_seed']}.., "
                  f"{ds['frames']} frames/scene, {ds['size']} px"
                  f"{', dataset.json sha256 ' + m['dataset_manifest_sha256'][:12] + '...' if 'dataset_manifest_sha256' in m else ''}"
+                 f"{' + ' + ', '.join(m['extra_datasets']) if m.get('extra_datasets') else ''}"
                  f" | {m['epoch']} | "
                  f"{100 * v['val_iou']:.2f} % | {v['val_gradient_angle_deg']:.1f} / "
                  f"{v['val_escape_angle_deg']:.1f} deg | {os.path.getsize(pt) / 1e6:.1f} MB | "
                  f"`{digest}` |")
+    if "chosen_by" in m:
+        c = m["chosen_by"]
+        steps = ", ".join(f"{x['model']} {x['mean_steps']:.2f}" for x in c["candidates"])
+        chosen_notes.append(f"`{m['file']}` was chosen by the agent's mean steps on {c['scenes']} "
+                            f"among: {steps}.")
+if chosen_notes:
+    lines += [""] + chosen_notes
+if derived:
+    lines += ["", "Derived without training (`scripts/derive_model.py`: the weights copied, network "
+              "fields of the manifest changed):", "",
+              "| model | from | changed | size | sha256 |", "| --- | --- | --- | ---: | --- |"]
+    for m in derived:
+        d = m["derived_from"]
+        pt = os.path.join(models, m["file"])
+        digest = hashlib.sha256(open(pt, "rb").read()).hexdigest()
+        changed = ", ".join(f"`{k}: {v}`" for k, v in d["changed"].items())
+        lines.append(f"| `{m['file']}` | `{d['file']}` (sha256 {d['sha256'][:12]}...) | {changed} | "
+                     f"{os.path.getsize(pt) / 1e6:.1f} MB | `{digest}` |")
+    lines += ["", "Their figures and what they are for: doc/TRAINING.md, \"Training for real cameras\"."]
 if policies:
     lines += ["", "PPO policies (`occlusion_train_ppo`); the training curves' end points are the means "
               "of the last episodes of training (sampled actions, random start azimuths):", "",
