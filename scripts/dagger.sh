@@ -3,7 +3,7 @@
 # predicted-escape agent rolled out on new training scenes, every state it visits labelled by
 # the oracle, and (2) occlusion_train --init-from the current model on the base data plus every
 # DAgger set so far, keeping every epoch's model; (3) the round's model chosen by the agent's mean
-# steps on the validation scene set (config/scenes/validation_sweethome3d.yaml, seeds 970000..,
+# steps on validation scenes (config/scenes/validation_sweethome3d_200.yaml, seeds 970000..,
 # never trained on) among the round's start model and every epoch's: OUT/model_<k>/selection.csv,
 # the chosen one copied to OUT/model_<k>/chosen.pt; it is the next round's agent. Every step
 # resumes: re-run the same command after an interruption (finished work is skipped quickly).
@@ -20,7 +20,8 @@
 # (image size of the roll-outs and frames [px], default 128 as the base data), EPOCHS (per
 # round, default 5), LR (per round, default the trainer's 1e-3), THREADS (roll-out workers,
 # default 2), EXTRA_DATA (further datasets for every round's training, space-separated),
-# VALIDATION (the scene set that chooses, default config/scenes/validation_sweethome3d.yaml).
+# VALIDATION (the scene set that chooses, default config/scenes/validation_sweethome3d_200.yaml:
+# 200 scenes, since on 50 the rounds' models differ by less than the noise).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 base="${1:-$root/data/train_sweethome3d}"
@@ -34,7 +35,7 @@ beta="${BETA:-0}"
 size="${SIZE:-128}"
 epochs="${EPOCHS:-5}"
 lr="${LR:-0.001}"
-validation="${VALIDATION:-$root/config/scenes/validation_sweethome3d.yaml}"
+validation="${VALIDATION:-$root/config/scenes/validation_sweethome3d_200.yaml}"
 threads="${THREADS:-2}"
 extra_data="${EXTRA_DATA:-}"
 bin="$root/.build_ws/devel/lib/occlusion_env"
@@ -87,7 +88,7 @@ PY
 choose_model() {
   local run="$1/model_$2" start="$3" candidates=("$3") name steps best="" best_steps=""
   for ((e = 1; e <= epochs; ++e)); do candidates+=("$run/epoch_$e.pt"); done
-  echo "candidate,mean_steps,successes,episodes" >"$run/selection.csv"
+  echo "candidate,scene_set,mean_steps,successes,episodes" >"$run/selection.csv"
   for candidate in "${candidates[@]}"; do
     if [[ ! -f "$candidate" ]]; then
       echo "   $candidate is missing (a run trained without --keep-epochs?): skipped" >&2
@@ -96,7 +97,7 @@ choose_model() {
     name="$(basename "${candidate%.pt}")"
     [[ "$candidate" == "$start" ]] && name="start"
     read -r steps successes episodes < <(validation_steps "$candidate" "$run/validation/$name")
-    echo "$candidate,$steps,$successes,$episodes" >>"$run/selection.csv"
+    echo "$candidate,$(relative "$validation"),$steps,$successes,$episodes" >>"$run/selection.csv"
     echo "   $name: $steps steps on the validation scenes, $successes / $episodes clear" >&2
     if [[ -z "$best" ]] || python3 -c "import sys; sys.exit(not $steps < $best_steps)"; then
       best="$candidate" best_steps="$steps"

@@ -49,8 +49,8 @@ if model == "chosen":
     rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))
     chosen = min(rows, key=lambda r: float(r["mean_steps"]))
     manifest["chosen_by"] = {
-        "scenes": "config/scenes/validation_sweethome3d.yaml (seeds 970000..970049), "
-                  "predicted_escape, 50 steps at most (scripts/dagger.sh)",
+        "scenes": rows[0].get("scene_set", "config/scenes/validation_sweethome3d.yaml")
+                  + ", predicted_escape, 50 steps at most (scripts/dagger.sh)",
         "candidates": [{"model": r["candidate"], "mean_steps": float(r["mean_steps"]),
                         "successes": int(r["successes"]), "episodes": int(r["episodes"])}
                        for r in rows],

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -30,6 +31,13 @@ TEST(SceneSet, TheValidationSetIsAboveEveryTrainersSeeds) {
   SceneSet drawn = validation;
   drawn.seeds = {kFirstValidationSeed - 1};
   EXPECT_THROW(requireDisjoint(drawn, kTrainerSeedRange), InvalidArgumentError);
+  // The larger set (scripts/dagger.sh's choice) begins with the same 50 scenes.
+  const SceneSet larger = loadSceneSet("config/scenes/validation_sweethome3d_200.yaml");
+  ASSERT_EQ(larger.seeds.size(), 200u);
+  EXPECT_TRUE(std::equal(validation.seeds.begin(), validation.seeds.end(), larger.seeds.begin()));
+  EXPECT_EQ(larger.model_split, "train");
+  EXPECT_NO_THROW(requireDisjoint(larger, kTrainerSeedRange));
+  EXPECT_NO_THROW(requireDisjoint(larger, loadSceneSet("config/scenes/test_sweethome3d.yaml")));
 }
 
 TEST(SceneSet, ShippedTestSetsAreFiftyTestSeedsAtAzimuthZero) {
