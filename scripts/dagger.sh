@@ -23,6 +23,7 @@
 # VALIDATION (the scene set that chooses, default config/scenes/validation_sweethome3d_200.yaml:
 # 200 scenes, since on 50 the rounds' models differ by less than the noise).
 set -euo pipefail
+shopt -s inherit_errexit  # a failure inside $(...) (choose_model's evaluations) stops the script
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 base="${1:-$root/data/train_sweethome3d}"
 out="${2:-$root/runs/dagger}"
@@ -86,7 +87,7 @@ PY
 # Chooses round $1's model: the start model or one of the run's epochs, whichever has the
 # fewest mean steps on the validation scenes (ties: the earlier candidate); prints its path.
 choose_model() {
-  local run="$1/model_$2" start="$3" candidates=("$3") name steps best="" best_steps=""
+  local run="$1/model_$2" start="$3" candidates=("$3") name result steps best="" best_steps=""
   for ((e = 1; e <= epochs; ++e)); do candidates+=("$run/epoch_$e.pt"); done
   echo "candidate,scene_set,mean_steps,successes,episodes" >"$run/selection.csv"
   for candidate in "${candidates[@]}"; do
@@ -96,7 +97,8 @@ choose_model() {
     fi
     name="$(basename "${candidate%.pt}")"
     [[ "$candidate" == "$start" ]] && name="start"
-    read -r steps successes episodes < <(validation_steps "$candidate" "$run/validation/$name")
+    result="$(validation_steps "$candidate" "$run/validation/$name")"
+    read -r steps successes episodes <<<"$result"
     echo "$candidate,$(relative "$validation"),$steps,$successes,$episodes" >>"$run/selection.csv"
     echo "   $name: $steps steps on the validation scenes, $successes / $episodes clear" >&2
     if [[ -z "$best" ]] || python3 -c "import sys; sys.exit(not $steps < $best_steps)"; then
@@ -122,6 +124,7 @@ for ((k = 1; k <= rounds; ++k)); do
   # shellcheck disable=SC2046  # the flags are words
   "$bin/occlusion_train" --data "$base" "${extra[@]}" "${dagger_data[@]}" --out "$run_k" \
     --init-from "$model" --epochs "$epochs" --lr "$lr" --keep-epochs $(network_flags "$model")
-  model="$(relative "$(choose_model "$out" "$k" "$model")")"
+  chosen="$(choose_model "$out" "$k" "$model")"
+  model="$(relative "$chosen")"
 done
 echo "dagger.sh: round $rounds's model: $model" >&2
