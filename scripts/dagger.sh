@@ -5,7 +5,7 @@
 # DAgger set so far, keeping every epoch's model; (3) the round's model chosen by the agent's mean
 # steps on validation scenes (config/scenes/validation_sweethome3d_200.yaml, seeds 970000..,
 # never trained on) among the round's start model and every epoch's: OUT/model_<k>/selection.csv,
-# the chosen one copied to OUT/model_<k>/chosen.pt; it is the next round's agent. Every step
+# the chosen one copied to OUT/model_<k>/chosen.pt (its path in chosen.txt); it is the next round's agent. Every step
 # resumes: re-run the same command after an interruption (finished work is skipped quickly).
 #
 # Usage: scripts/dagger.sh [BASE_DATA] [OUT]
@@ -107,6 +107,7 @@ choose_model() {
   done
   cp "$best" "$run/chosen.pt"
   cp "${best%.pt}.json" "$run/chosen.json"
+  echo "$best" >"$run/chosen.txt"  # which candidate (scripts/ship_model.sh records it)
   echo "   chosen: $best ($best_steps steps)" >&2
   echo "$run/chosen.pt"
 }

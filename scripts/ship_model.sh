@@ -2,10 +2,10 @@
 # Copies a training run's model into models/ under NAME and records it in models/MANIFEST.md:
 # what it is, from which data, with which command, its metrics and its sha256. A network run
 # (occlusion_train) ships best.pt, or chosen.pt where scripts/dagger.sh chose one by the agent's
-# steps on validation scenes (with that choice: selection.csv); a PPO run (occlusion_train_ppo)
-# ships policy.pt with the end points of its training curves (the last 500 episodes) and the
-# sha256 of its backbone. Models derived without training (scripts/derive_model.py) keep their
-# own table.
+# steps on validation scenes (with that choice: selection.csv, chosen.txt); a PPO run
+# (occlusion_train_ppo) ships policy.pt with the end points of its training curves (the last 500
+# episodes) and the sha256 of its backbone. Models derived without training
+# (scripts/derive_model.py) keep their own table.
 # Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -47,14 +47,13 @@ if "dataset" in manifest:
 if model == "chosen":
     # The DAgger round's choice: every candidate's mean steps on the validation scenes.
     rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))
-    chosen = min(rows, key=lambda r: float(r["mean_steps"]))
     manifest["chosen_by"] = {
         "scenes": rows[0].get("scene_set", "config/scenes/validation_sweethome3d.yaml")
                   + ", predicted_escape, 50 steps at most (scripts/dagger.sh)",
         "candidates": [{"model": r["candidate"], "mean_steps": float(r["mean_steps"]),
                         "successes": int(r["successes"]), "episodes": int(r["episodes"])}
                        for r in rows],
-        "chosen": chosen["candidate"],
+        "chosen": open(os.path.join(run, "chosen.txt")).read().strip(),
     }
 if manifest.get("kind") == "ppo_policy":
     episodes = list(csv.DictReader(open(os.path.join(run, "training_episodes.csv"))))[-500:]

@@ -545,9 +545,10 @@ EpochMetrics trainEpoch(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
   return metrics;
 }
 
-// The manifest of the best model so far (best.pt): the run, its data and the epoch's figures.
-nlohmann::json bestModelInfo(const TrainingData& data, const TrainingOptions& options,
-                             const nlohmann::json& init_manifest, const EpochMetrics& metrics) {
+// The manifest of the model after an epoch (best.pt, epoch_<k>.pt): the run, its data and the
+// epoch's figures.
+nlohmann::json epochModelInfo(const TrainingData& data, const TrainingOptions& options,
+                              const nlohmann::json& init_manifest, const EpochMetrics& metrics) {
   nlohmann::json info = {{"training", options.toJson()},
                          {"dataset", data.dataset_dir},
                          {"dataset_options", data.dataset_manifest.at("options")},
@@ -617,11 +618,11 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     if (metrics.val_iou > progress.best_iou) {
       progress.best_iou = metrics.val_iou;
       saveModel(network, (files.dir / "best.pt").string(),
-                bestModelInfo(data, options, init_manifest, metrics));
+                epochModelInfo(data, options, init_manifest, metrics));
     }
     if (options.keep_epochs) {
       saveModel(network, (files.dir / ("epoch_" + std::to_string(epoch) + ".pt")).string(),
-                bestModelInfo(data, options, init_manifest, metrics));
+                epochModelInfo(data, options, init_manifest, metrics));
     }
     writeCheckpoint(network, optimizer, files, identity, progress);
     if (callbacks.on_epoch) callbacks.on_epoch(metrics);
