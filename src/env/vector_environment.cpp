@@ -174,6 +174,7 @@ void VectorEnvironment::rethrowError(int index) {
     if (dynamic_cast<const EnvironmentUnavailableError*>(&error)) {
       throw EnvironmentUnavailableError(where);
     }
+    if (dynamic_cast<const SceneGenerationError*>(&error)) throw SceneGenerationError(where);
     throw std::runtime_error(where);
   }
 }

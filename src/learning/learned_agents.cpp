@@ -93,6 +93,7 @@ AgentRegistry learningAgents() {
   registry.add(policyUnAgentEntry());
   registry.add(policyInAgentEntry());
   registry.add(policyAgentEntry());
+  registry.add(policySampledAgentEntry());
   return registry;
 }
 

@@ -30,18 +30,37 @@ const OptionTable<PolicyConfig>& policyConfigTable() {
                           "paper; doc/PPO.md compares them)"))
           .add("learned_std", &PolicyConfig::learned_std,
                OptionSpec("sigma a trained parameter starting at --std, so that the entropy bonus "
-                          "has a gradient (false: the --std -> --std-end schedule)"));
+                          "has a gradient (false: the --std -> --std-end schedule)"))
+          .add("action", &PolicyConfig::action,
+               OptionSpec("the action distribution: a Gaussian about the mean action (the "
+                          "paper's), or a categorical over --directions unit moves whose "
+                          "logits start from the mean action (doc/PPO.md)")
+                   .choices({"gaussian", "directions"}))
+          .add("directions", &PolicyConfig::directions,
+               OptionSpec("with --action directions: unit moves around the circle").range(4, 720))
+          .add("direction_concentration", &PolicyConfig::direction_concentration,
+               OptionSpec("with --action directions: kappa, the logits' scale on the mean "
+                          "action (larger: a sharper start)")
+                   .above(0)
+                   .atMost(1000));
   return table;
 }
 
 void PolicyConfig::validate() const {
   policyConfigTable().check(*this);
+  if (isDirections() && (unit_mean || learned_std)) {
+    throw InvalidArgumentError(
+        "policy: unit_mean and learned_std are the Gaussian's; the directions action has neither");
+  }
 }
 
 nlohmann::json PolicyConfig::toJson() const {
   nlohmann::json json = policyConfigTable().toJson(*this);
   // Only when set, so that runs and policies from before the option keep their identity.
   if (!learned_std) json.erase("learned_std");
+  if (!isDirections()) {
+    for (const char* name : {"action", "directions", "direction_concentration"}) json.erase(name);
+  }
   return json;
 }
 
@@ -66,7 +85,19 @@ PolicyNetworkImpl::PolicyNetworkImpl(const NetworkConfig& backbone, const Policy
                                nn::Linear(config_.hidden, config_.hidden), nn::Tanh(),
                                nn::Linear(config_.hidden, 1)));
   if (config_.learned_std) log_std_ = register_parameter("log_std", torch::zeros({2}));
+  if (config_.isDirections()) {
+    actor_directions_ =
+        register_module("actor_directions", nn::Linear(features + kRigInputs, config_.directions));
+    const torch::Tensor angle =
+        torch::arange(config_.directions, torch::kDouble) * (2.0 * M_PI / config_.directions);
+    direction_vectors_ = register_buffer(
+        "direction_vectors", torch::stack({angle.cos(), angle.sin()}, 1).to(torch::kFloat));
+  }
   torch::NoGradGuard no_grad;
+  if (actor_directions_) {  // the logits start as the mean action's alone
+    actor_directions_->weight.zero_();
+    actor_directions_->bias.zero_();
+  }
   // The rig term starts at zero (the actor is the body alone); small last layers so that a fresh
   // actor starts near the zero mean and the critic near zero (the PPO literature's
   // initialisation: 0.01 for the policy's output, 1 for the value's).
@@ -90,11 +121,29 @@ torch::Tensor PolicyNetworkImpl::rigOrZero(const torch::Tensor& rig) {
   return config_.rig_inputs ? rig : torch::zeros_like(rig);
 }
 
+torch::Tensor PolicyNetworkImpl::rawMean(const torch::Tensor& features, const torch::Tensor& rig) {
+  return actor_body_->forward(features) + actor_rig_->forward(rigOrZero(rig));
+}
+
 torch::Tensor PolicyNetworkImpl::actionMean(const torch::Tensor& features,
                                             const torch::Tensor& rig) {
-  const torch::Tensor mean = actor_body_->forward(features) + actor_rig_->forward(rigOrZero(rig));
+  if (config_.isDirections()) {
+    return directionLogProbabilities(features, rig).exp().matmul(direction_vectors_);
+  }
+  const torch::Tensor mean = rawMean(features, rig);
   if (!config_.unit_mean) return mean;
   return mean / mean.norm(2, 1, /*keepdim=*/true).clamp_min(1e-6);
+}
+
+torch::Tensor PolicyNetworkImpl::directionLogProbabilities(const torch::Tensor& features,
+                                                           const torch::Tensor& rig) {
+  if (!config_.isDirections()) {
+    throw std::logic_error("policy: the action is not directions");
+  }
+  const torch::Tensor logits =
+      config_.direction_concentration * rawMean(features, rig).matmul(direction_vectors_.t()) +
+      actor_directions_->forward(torch::cat({features, rigOrZero(rig)}, 1));
+  return torch::log_softmax(logits, 1);
 }
 
 torch::Tensor PolicyNetworkImpl::value(const torch::Tensor& features, const torch::Tensor& rig) {
@@ -137,12 +186,24 @@ torch::Tensor& PolicyNetworkImpl::logStd() {
 std::vector<torch::Tensor> PolicyNetworkImpl::actorParameters() {
   std::vector<torch::Tensor> parameters = actor_body_->parameters();
   for (auto& p : actor_rig_->parameters()) parameters.push_back(p);
+  if (actor_directions_) {
+    for (auto& p : actor_directions_->parameters()) parameters.push_back(p);
+  }
   if (config_.learned_std) parameters.push_back(log_std_);
   return parameters;
 }
 
 std::vector<torch::Tensor> PolicyNetworkImpl::criticParameters() {
   return critic_->parameters();
+}
+
+int sampleDirection(const float* log_probs, int count, double uniform) {
+  int k = 0;
+  for (; k + 1 < count; ++k) {
+    uniform -= std::exp(log_probs[k]);
+    if (uniform < 0.0) break;
+  }
+  return k;
 }
 
 void writeRigInput(const Action& last_move, double elevation_rad, float* out) {
@@ -187,15 +248,32 @@ LoadedPolicy loadPolicy(const std::string& path) {
   return policy;
 }
 
-PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy) : policy_(std::move(policy)) {
+PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
+    : policy_(std::move(policy)), sampled_(sampled) {
   if (!policy_ || !policy_->network) throw InvalidArgumentError("policy agent: no policy");
+  const PolicyConfig& config = policy_->network->config();
+  if (sampled_ && !config.isDirections()) {
+    if (config.learned_std) {
+      const torch::Tensor sigma = policy_->network->logStd().detach().exp();
+      for (int axis = 0; axis < 2; ++axis) sigma_[axis] = sigma[axis].item<double>();
+    } else {
+      const nlohmann::json& trained = policy_->manifest.value("trained_with", nlohmann::json());
+      if (!trained.contains("action_std_end")) {
+        throw InvalidArgumentError(
+            "policy agent: the policy's manifest does not say the sigma its training ended with "
+            "(trained_with.action_std_end), so its actions cannot be sampled");
+      }
+      sigma_[0] = sigma_[1] = trained.at("action_std_end").get<double>();
+    }
+  }
   const int size = policy_->network->backbone()->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   rig_ = torch::zeros({1, kRigInputs});
 }
 
-void PolicyAgent::reset(std::uint64_t) {
+void PolicyAgent::reset(std::uint64_t seed) {
   last_move_ = Action{};
+  random_.seed(seed);
 }
 
 Action PolicyAgent::act(const RigObservation& observation) {
@@ -204,8 +282,25 @@ Action PolicyAgent::act(const RigObservation& observation) {
                     scratch_, input_.data_ptr<float>());
   writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
-  const torch::Tensor mean = network->actionMean(network->features(input_), rig_);
-  const float d_azimuth = mean[0][0].item<float>(), d_elevation = mean[0][1].item<float>();
+  const torch::Tensor features = network->features(input_);
+  float d_azimuth = 0.0f, d_elevation = 0.0f;
+  if (sampled_ && network->config().isDirections()) {
+    const torch::Tensor log_probs = network->directionLogProbabilities(features, rig_).contiguous();
+    const int k = sampleDirection(log_probs.data_ptr<float>(), static_cast<int>(log_probs.size(1)),
+                                  std::uniform_real_distribution<double>(0.0, 1.0)(random_));
+    const auto vectors = network->directionVectors().accessor<float, 2>();
+    d_azimuth = vectors[k][0];
+    d_elevation = vectors[k][1];
+  } else {
+    const torch::Tensor mean = network->actionMean(features, rig_);
+    d_azimuth = mean[0][0].item<float>();
+    d_elevation = mean[0][1].item<float>();
+    if (sampled_) {
+      std::normal_distribution<double> noise(0.0, 1.0);
+      d_azimuth += static_cast<float>(sigma_[0] * noise(random_));
+      d_elevation += static_cast<float>(sigma_[1] * noise(random_));
+    }
+  }
   if (!std::isfinite(d_azimuth) || !std::isfinite(d_elevation)) {
     throw std::runtime_error("the policy's action is not finite");
   }
@@ -220,11 +315,13 @@ std::string shippedPolicyPath(const std::string& name) {
 }
 
 AgentEntry policyEntry(const std::string& name, const std::string& summary,
-                       const std::string& paper_label, const std::string& default_model_path) {
-  return modelAgentEntry(
-      name, summary, paper_label, default_model_path, [](const std::string& path) {
-        return std::make_unique<PolicyAgent>(std::make_shared<LoadedPolicy>(loadPolicy(path)));
-      });
+                       const std::string& paper_label, const std::string& default_model_path,
+                       bool sampled = false) {
+  return modelAgentEntry(name, summary, paper_label, default_model_path,
+                         [sampled](const std::string& path) {
+                           return std::make_unique<PolicyAgent>(
+                               std::make_shared<LoadedPolicy>(loadPolicy(path)), sampled);
+                         });
 }
 
 }  // namespace
@@ -248,6 +345,13 @@ AgentEntry policyAgentEntry() {
   return policyEntry("policy",
                      "any PPO policy written by occlusion_train_ppo, by model path (mean action)",
                      "", "");
+}
+
+AgentEntry policySampledAgentEntry() {
+  return policyEntry("policy_sampled",
+                     "any PPO policy written by occlusion_train_ppo, by model path, its actions "
+                     "sampled as in training (seeded by the scene)",
+                     "", "", /*sampled=*/true);
 }
 
 }  // namespace learning

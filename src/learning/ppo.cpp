@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -138,6 +139,8 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+constexpr int kMaxSkippedSeeds = 100;  // unusable training seeds in a row before giving up
+
 constexpr double kLogSqrtTwoPi = 0.91893853320467274178;
 
 // Sum over the two action dimensions of log N(action; mean, std^2); std [2], one per axis.
@@ -220,6 +223,7 @@ class PpoTrainer {
     LoadedModel pretrained = loadModel(options_.backbone_path);
     input_format_ = pretrained.network->config().inputFormat();
     policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
+    directions_ = options_.policy.isDirections();
     policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
     if (options_.policy.learned_std) {
       torch::NoGradGuard no_grad;
@@ -255,9 +259,8 @@ class PpoTrainer {
     const int feature_size = policy_->backbone()->config().bottleneckChannels();
     Rollout rollout;
     rollout.allocate(steps_per_env * count_, feature_size, input_format_.size, options_.fine_tune);
-    std::vector<VectorRequest> requests(count_);
-    for (int i = 0; i < count_; ++i) requests[i] = resetRequest(i);
-    environments_->run(requests);
+    for (int i = 0; i < count_; ++i) environments_->start(i, resetRequest(i));
+    waitFor({0, count_});
     features_ = encode(0, count_);
 
     const auto start = Clock::now();
@@ -282,7 +285,9 @@ class PpoTrainer {
       update.update = progress_.updates;
       update.env_steps = progress_.env_steps;
       update.episodes = progress_.episodes;
-      update.action_std = std.mean().item<double>();
+      // Directions have no sigma: the column is empty (NaN).
+      update.action_std =
+          directions_ ? std::numeric_limits<double>::quiet_NaN() : std.mean().item<double>();
       summariseEpisodes(update);
       update.seconds = secondsSince(start);
       update.steps_per_second = (progress_.env_steps - start_steps) / update.seconds;
@@ -344,23 +349,49 @@ class PpoTrainer {
     const int n = group.last - group.first;
     const torch::Tensor features = features_.slice(0, group.first, group.last);
     const torch::Tensor rig = rig_.slice(0, group.first, group.last);
-    torch::Tensor mean, values;
+    torch::Tensor mean, log_probs, values;
     {
       const auto start = Clock::now();
       torch::NoGradGuard no_grad;
-      mean = policy_->actionMean(features, rig);
+      if (directions_) {
+        log_probs = policy_->directionLogProbabilities(features, rig);
+      } else {
+        mean = policy_->actionMean(features, rig);
+      }
       values = policy_->value(features, rig);
       inference_seconds_ += secondsSince(start);
     }
-    std::normal_distribution<float> noise(0.0f, 1.0f);
-    torch::Tensor actions = torch::empty({n, 2});
-    {
+    // A Gaussian's action is the move; a direction's is stored as its index k (the move u_k).
+    torch::Tensor actions = torch::zeros({n, 2});
+    torch::Tensor moves = actions;
+    torch::Tensor action_log_probs;
+    if (directions_) {
+      moves = torch::empty({n, 2});
+      action_log_probs = torch::empty({n});
+      log_probs = log_probs.contiguous();
+      auto vectors = policy_->directionVectors().accessor<float, 2>();
+      auto out = actions.accessor<float, 2>();
+      auto move = moves.accessor<float, 2>();
+      auto chosen_log_prob = action_log_probs.accessor<float, 1>();
+      std::uniform_real_distribution<double> uniform(0.0, 1.0);
+      const int count = static_cast<int>(log_probs.size(1));
+      for (int i = 0; i < n; ++i) {
+        const float* row = log_probs.data_ptr<float>() + static_cast<std::ptrdiff_t>(i) * count;
+        const int k = sampleDirection(row, count, uniform(progress_.random));
+        out[i][0] = static_cast<float>(k);
+        move[i][0] = vectors[k][0];
+        move[i][1] = vectors[k][1];
+        chosen_log_prob[i] = row[k];
+      }
+    } else {
+      std::normal_distribution<float> noise(0.0f, 1.0f);
       auto in = mean.accessor<float, 2>();
       auto sigma = std.accessor<float, 1>();
       auto out = actions.accessor<float, 2>();
       for (int i = 0; i < n; ++i) {
         for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(progress_.random);
       }
+      action_log_probs = gaussianLogProbability(actions, mean, std);
     }
     const auto rows = torch::indexing::Slice(t * count_ + group.first, t * count_ + group.last);
     rollout.features.index_put_({rows}, features);
@@ -369,9 +400,9 @@ class PpoTrainer {
     }
     rollout.rig.index_put_({rows}, rig);
     rollout.actions.index_put_({rows}, actions);
-    rollout.log_probs.index_put_({rows}, gaussianLogProbability(actions, mean, std));
+    rollout.log_probs.index_put_({rows}, action_log_probs);
     rollout.values.index_put_({rows}, values);
-    auto chosen = actions.accessor<float, 2>();
+    auto chosen = moves.accessor<float, 2>();
     for (int i = group.first; i < group.last; ++i) {
       last_moves_[i] = {chosen[i - group.first][0], chosen[i - group.first][1]};
       environments_->start(i, VectorRequest::stepBy(last_moves_[i]));
@@ -418,10 +449,25 @@ class PpoTrainer {
     }
   }
 
-  // Waits until every environment of `group` has answered.
+  // Waits until every environment of `group` has answered. A training seed whose scene draws
+  // give no occluded start view (Environment::reset's SceneGenerationError, rare) is skipped for
+  // the next seed of the stream, as a data loader skips an unreadable sample, instead of ending a
+  // long run.
   void waitFor(const Group& group) {
     const auto start = Clock::now();
-    for (int i = group.first; i < group.last; ++i) environments_->wait(i);
+    for (int i = group.first; i < group.last; ++i) {
+      for (int skipped = 0;; ++skipped) {
+        try {
+          environments_->wait(i);
+          break;
+        } catch (const SceneGenerationError& error) {
+          if (skipped >= kMaxSkippedSeeds) throw;
+          std::cerr << "occlusion_train_ppo: skipping training seed " << episodes_[i].seed << ": "
+                    << error.what() << "\n";
+          environments_->start(i, resetRequest(i));
+        }
+      }
+    }
     environment_seconds_ += secondsSince(start);
   }
 
@@ -498,7 +544,7 @@ class PpoTrainer {
 
   // What one minibatch's step reports: the approximate KL, the fraction clipped, the losses.
   struct MinibatchFigures {
-    double kl = 0.0, clip_fraction = 0.0, policy_loss = 0.0, value_loss = 0.0;
+    double kl = 0.0, clip_fraction = 0.0, policy_loss = 0.0, value_loss = 0.0, entropy = 0.0;
   };
 
   // One gradient step of actor, critic (and backbone when fine-tuned) on the rows `index`.
@@ -512,17 +558,23 @@ class PpoTrainer {
                                        ? policy_->features(rollout.inputs.index_select(0, index))
                                        : rollout.features.index_select(0, index);
     const torch::Tensor rig = rollout.rig.index_select(0, index);
-    const torch::Tensor mean = policy_->actionMean(features, rig);
-    const torch::Tensor log_ratio =
-        gaussianLogProbability(rollout.actions.index_select(0, index), mean, std) -
-        rollout.log_probs.index_select(0, index);
+    const torch::Tensor actions = rollout.actions.index_select(0, index);
+    torch::Tensor log_prob, entropy;
+    if (directions_) {
+      const torch::Tensor log_probs = policy_->directionLogProbabilities(features, rig);
+      log_prob = log_probs.gather(1, actions.select(1, 0).to(torch::kLong).unsqueeze(1)).squeeze(1);
+      entropy = -(log_probs.exp() * log_probs).sum(1).mean();
+    } else {
+      log_prob = gaussianLogProbability(actions, policy_->actionMean(features, rig), std);
+      entropy = gaussianEntropy(std);
+    }
+    const torch::Tensor log_ratio = log_prob - rollout.log_probs.index_select(0, index);
     const torch::Tensor ratio = log_ratio.exp();
     const torch::Tensor advantage = advantages.index_select(0, index);
     const torch::Tensor surrogate = torch::min(
         ratio * advantage,
         ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
-    const torch::Tensor policy_loss =
-        -surrogate.mean() - options_.entropy_coefficient * gaussianEntropy(std);
+    const torch::Tensor policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
     const torch::Tensor value_error =
         policy_->value(features, rig) - returns.index_select(0, index);
     const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
@@ -550,6 +602,7 @@ class PpoTrainer {
         ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
     figures.policy_loss = policy_loss.item<double>();
     figures.value_loss = value_loss.item<double>();
+    figures.entropy = entropy.item<double>();
     return figures;
   }
 
@@ -564,7 +617,8 @@ class PpoTrainer {
     }
 
     PpoUpdate update;
-    update.entropy = gaussianEntropy(std).item<double>();  // at the rollout's sigma
+    // The Gaussian's at the rollout's sigma; the directions' over the update's minibatches.
+    if (!directions_) update.entropy = gaussianEntropy(std).item<double>();
     std::vector<int64_t> order(rows);
     std::iota(order.begin(), order.end(), 0);
     const int minibatch = std::min(options_.minibatch_size, rows);
@@ -585,6 +639,7 @@ class PpoTrainer {
         sum.clip_fraction += figures.clip_fraction;
         sum.policy_loss += figures.policy_loss;
         sum.value_loss += figures.value_loss;
+        sum.entropy += figures.entropy;
         ++batches;
       }
       update.epochs_run = epoch + 1;
@@ -596,6 +651,7 @@ class PpoTrainer {
     update.policy_loss = sum.policy_loss / std::max(1, batches);
     update.value_loss = sum.value_loss / std::max(1, batches);
     update.approx_kl = sum.kl / std::max(1, batches);
+    if (directions_) update.entropy = sum.entropy / std::max(1, batches);
     update.clip_fraction = sum.clip_fraction / std::max(1, batches);
     const double return_variance = returns.var().item<double>();
     update.explained_variance =
@@ -712,6 +768,7 @@ class PpoTrainer {
   PpoCallbacks callbacks_;
   InputFormat input_format_;  // the pretrained network's
   PolicyNetwork policy_{nullptr};
+  bool directions_ = false;  // the policy's action is a direction (PolicyConfig::action)
   std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i

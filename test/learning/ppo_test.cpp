@@ -3,6 +3,7 @@
 // policy the agents load; the actor starts as the escape head; policy files are checked.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -235,17 +236,30 @@ TEST(PpoTest, TheEntropyBonusTrainsALearnedSigmaOnly) {
   fs::remove_all(dir);
 }
 
-TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
+// A small untrained multi-task network (32 px input, seed 5) in eval mode.
+MultiTaskUNet smallNetwork() {
   torch::manual_seed(5);
   NetworkConfig config;
   config.input_size = 32;
   MultiTaskUNet network(config);
   network->eval();
-  PolicyConfig free_mean;
-  free_mean.unit_mean = false;
-  PolicyNetwork policy(config, free_mean);
+  return network;
+}
+
+// A policy of `config` on `network`, its actor from the escape head, in eval mode.
+PolicyNetwork policyOn(MultiTaskUNet& network, const PolicyConfig& config) {
+  PolicyNetwork policy(network->config(), config);
   policy->initialiseFrom(network, /*actor_from_escape=*/true);
   policy->eval();
+  return policy;
+}
+
+TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
+  MultiTaskUNet network = smallNetwork();
+  const NetworkConfig& config = network->config();
+  PolicyConfig free_mean;
+  free_mean.unit_mean = false;
+  PolicyNetwork policy = policyOn(network, free_mean);
   torch::NoGradGuard no_grad;
   const torch::Tensor input = torch::randn({3, 4, 32, 32});
   const NetworkOutput out = network->forward(input);
@@ -269,6 +283,155 @@ TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
   EXPECT_LT(fresh->actionMean(features, torch::zeros({3, kRigInputs})).abs().max().item<float>(),
             0.5f)
       << "a fresh actor starts near the zero mean";
+}
+
+TEST(PpoTest, TheDirectionsActionStartsWhereTheEscapeHeadPoints) {
+  MultiTaskUNet network = smallNetwork();
+  PolicyConfig directions;
+  directions.action = "directions";
+  directions.directions = 32;
+  PolicyNetwork policy = policyOn(network, directions);
+  torch::NoGradGuard no_grad;
+  const torch::Tensor input = torch::randn({4, 4, 32, 32});
+  const NetworkOutput out = network->forward(input);
+  const torch::Tensor features = policy->features(input);
+  const torch::Tensor rig = torch::zeros({4, kRigInputs});
+  const torch::Tensor log_probs = policy->directionLogProbabilities(features, rig);
+  ASSERT_EQ(log_probs.sizes(), (std::vector<std::int64_t>{4, 32}));
+  EXPECT_TRUE(torch::allclose(log_probs.exp().sum(1), torch::ones({4}), 1e-5, 1e-5));
+  // The agent's move (the circular mean) points along the escape head's (cos, sin).
+  const torch::Tensor mean = policy->actionMean(features, rig);
+  for (int b = 0; b < 4; ++b) {
+    const double escape = std::atan2(out.escape_direction[b][0].item<double>(),
+                                     out.escape_direction[b][1].item<double>());
+    const double chosen = std::atan2(mean[b][1].item<double>(), mean[b][0].item<double>());
+    EXPECT_LT(std::abs(std::remainder(chosen - escape, 2.0 * M_PI)), 0.01) << "row " << b;
+  }
+  // A longer mean sharpens the distribution: larger kappa, lower entropy.
+  PolicyConfig sharper = directions;
+  sharper.direction_concentration = 4.0 * directions.direction_concentration;
+  PolicyNetwork sharp = policyOn(network, sharper);
+  const auto entropy = [](const torch::Tensor& lp) { return -(lp.exp() * lp).sum(1); };
+  EXPECT_TRUE((entropy(sharp->directionLogProbabilities(features, rig)) < entropy(log_probs))
+                  .all()
+                  .item<bool>());
+  // The Gaussian's options do not apply.
+  PolicyConfig wrong = directions;
+  wrong.unit_mean = true;
+  EXPECT_THROW(wrong.validate(), InvalidArgumentError);
+}
+
+TEST(PpoTest, ADirectionsPolicyTrainsWithItsEntropyBonusAndActs) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo_directions");
+  PpoOptions options = shortRun(writeBackbone(dir));
+  options.policy.action = "directions";
+  options.policy.directions = 16;
+  options.actor_learning_rate = 0.02;
+  const auto lastEntropy = [&](double coefficient, const std::string& name) {
+    PpoOptions run = options;
+    run.entropy_coefficient = coefficient;
+    std::vector<PpoUpdate> updates;
+    PpoCallbacks callbacks;
+    callbacks.on_update = [&](const PpoUpdate& u) { updates.push_back(u); };
+    trainPpo(run, 2, inProcess(), {}, (dir / name).string(), callbacks);
+    EXPECT_EQ(updates.size(), 3u);
+    for (const PpoUpdate& u : updates) {
+      EXPECT_TRUE(std::isnan(u.action_std)) << "directions have no sigma";
+      EXPECT_GT(u.entropy, 0.0);
+      EXPECT_LE(u.entropy, std::log(16.0) + 1e-6);
+    }
+    return updates.back().entropy;
+  };
+  // The bonus has a gradient: a large one keeps the distribution broader than none.
+  const double without = lastEntropy(0.0, "without");
+  const double with_bonus = lastEntropy(10.0, "with");
+  EXPECT_GT(with_bonus, without);
+
+  // The policy file names its action and acts as an agent: one unit-or-shorter move.
+  LoadedPolicy loaded = loadPolicy((dir / "with" / "policy.pt").string());
+  EXPECT_TRUE(loaded.network->config().isDirections());
+  EXPECT_EQ(loaded.network->config().directions, 16);
+  PolicyAgent agent(std::make_shared<LoadedPolicy>(std::move(loaded)));
+  Environment env(smallEnvironment());
+  const StepResult start = env.reset(7);
+  agent.reset(7);
+  const Action move = agent.act(rigObservationOf(start));
+  const double length = std::hypot(move.d_azimuth_rad, move.d_elevation_rad);
+  EXPECT_GT(length, 0.0);
+  EXPECT_LE(length, 1.0 + 1e-5);
+
+  // Sampled: a unit move of the circle, the same again for the same scene seed.
+  auto sampled_policy =
+      std::make_shared<LoadedPolicy>(loadPolicy((dir / "with" / "policy.pt").string()));
+  PolicyAgent sampled(sampled_policy, /*sampled=*/true);
+  std::vector<Action> first, again;
+  for (std::vector<Action>* moves : {&first, &again}) {
+    sampled.reset(7);
+    for (int k = 0; k < 6; ++k) moves->push_back(sampled.act(rigObservationOf(start)));
+  }
+  bool varied = false;
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    EXPECT_NEAR(std::hypot(first[k].d_azimuth_rad, first[k].d_elevation_rad), 1.0, 1e-5);
+    const double angle = std::atan2(first[k].d_elevation_rad, first[k].d_azimuth_rad);
+    const double steps = angle / (2.0 * M_PI / 16.0);
+    EXPECT_NEAR(steps, std::round(steps), 1e-4) << "one of the 16 moves";
+    EXPECT_EQ(first[k].d_azimuth_rad, again[k].d_azimuth_rad);
+    EXPECT_EQ(first[k].d_elevation_rad, again[k].d_elevation_rad);
+    varied |= first[k].d_azimuth_rad != first[0].d_azimuth_rad ||
+              first[k].d_elevation_rad != first[0].d_elevation_rad;
+  }
+  EXPECT_TRUE(varied) << "six draws of a broad distribution were all the same move";
+  fs::remove_all(dir);
+}
+
+TEST(PpoTest, SampleDirectionInvertsTheCumulativeProbability) {
+  const float log_probs[3] = {std::log(0.25f), std::log(0.5f), std::log(0.25f)};
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.0), 0);
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.2), 0);
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.3), 1);
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.74), 1);
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.8), 2);
+  EXPECT_EQ(sampleDirection(log_probs, 3, 0.999999), 2);
+}
+
+// The simulator, except that every third reset finds no scene (as a seed whose draws give no
+// occluded start view does).
+class SometimesNoScene : public EnvironmentInterface {
+ public:
+  StepResult reset(std::uint64_t seed, const ResetOptions& overrides) override {
+    if (++resets_ % 3 == 0) {
+      throw SceneGenerationError("no scene with occlusion at the start view (test)");
+    }
+    return env_.reset(seed, overrides);
+  }
+  StepResult step(const Action& action) override { return env_.step(action); }
+  std::string describe() const override { return "sometimes no scene"; }
+
+ private:
+  Environment env_{smallEnvironment()};
+  int resets_ = 0;
+};
+
+TEST(PpoTest, ASeedWithoutASceneIsSkippedNotFatal) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo_skip");
+  PpoOptions options = shortRun(writeBackbone(dir));
+  const VectorEnvironment::Factory sometimes = [](int) {
+    return std::make_unique<SometimesNoScene>();
+  };
+  std::int64_t episodes = 0;
+  PpoCallbacks callbacks;
+  callbacks.on_episode = [&](const PpoEpisode&) { ++episodes; };
+  ASSERT_NO_THROW(trainPpo(options, 2, sometimes, {}, (dir / "run").string(), callbacks));
+  EXPECT_GT(episodes, 3) << "resets kept failing every third time, and training went on";
+  // A source that never has a scene still stops the run, with the scene error.
+  const VectorEnvironment::Factory never = [](int) {
+    EnvironmentOptions impossible = smallEnvironment();
+    impossible.scene.num_objects = 1;  // nothing to hide: no start view has occlusion
+    impossible.max_scene_attempts = 1;
+    return std::make_unique<Environment>(impossible);
+  };
+  EXPECT_THROW(trainPpo(options, 2, never, {}, (dir / "never").string(), {}), SceneGenerationError);
+  fs::remove_all(dir);
 }
 
 TEST(PpoTest, PolicyAndNetworkFilesAreNotMistakenForEachOther) {

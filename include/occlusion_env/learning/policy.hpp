@@ -14,13 +14,26 @@
 // (its (sin, cos) rows swapped into (d_az, d_el)) and rig_term starts at zero. The environment
 // normalises every action to one unit step, so only the mean's direction moves the camera.
 // Critic: Linear -> Tanh -> Linear -> Tanh -> Linear on [features, rig].
+//
+// Two action distributions (PolicyConfig::action):
+//   gaussian    a 2-D Gaussian about the mean action, sigma scheduled or learned (the paper's);
+//   directions  a categorical over K unit moves u_k at angles 2 pi k / K in the (d_azimuth,
+//               d_elevation) plane: logits_k = kappa * (u_k . mean action) +
+//               correction_k([features, rig]), the correction a Linear layer starting at zero. The
+//               environment moves one unit step whatever the action's length, so only a direction
+//               is chosen; a short mean (an unsure escape head) gives a broad distribution, a long
+//               one a sharp one, and the entropy bonus acts on it. The deterministic action is the
+//               distribution's circular mean, sum_k p_k u_k, which at the start points where the
+//               escape head does.
 #pragma once
 
 #include <torch/torch.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "occlusion_env/agents/agent_registry.hpp"
 #include "occlusion_env/learning/multitask_unet.hpp"
@@ -43,7 +56,11 @@ struct PolicyConfig {
   /// the entropy bonus has a gradient. false: sigma follows PPO's fixed schedule (action_std to
   /// action_std_end), under which the entropy term changes only the reported loss.
   bool learned_std = false;
+  std::string action = "gaussian";       // gaussian | directions (above)
+  int directions = 32;                   // K, with action directions
+  double direction_concentration = 8.0;  // kappa, with action directions
 
+  bool isDirections() const { return action == "directions"; }
   /// Throws InvalidArgumentError naming the first option out of its declared range.
   void validate() const;
   /// Every field by its table name (the "policy" of policy manifests).
@@ -62,8 +79,13 @@ class PolicyNetworkImpl : public torch::nn::Module {
 
   /// The backbone's pooled encoder features of `input` [B, 4, S, S] -> [B, C].
   torch::Tensor features(const torch::Tensor& input);
-  /// Mean action [B, 2] = (d_azimuth, d_elevation).
+  /// Mean action [B, 2] = (d_azimuth, d_elevation): the Gaussian's mean, or the directions'
+  /// circular mean (what the agent does).
   torch::Tensor actionMean(const torch::Tensor& features, const torch::Tensor& rig);
+  /// With action directions: log-probabilities [B, K] of the unit moves directionVectors().
+  torch::Tensor directionLogProbabilities(const torch::Tensor& features, const torch::Tensor& rig);
+  /// With action directions: the unit moves u_k [K, 2] = (cos, sin) of 2 pi k / K.
+  const torch::Tensor& directionVectors() const { return direction_vectors_; }
   /// State value [B].
   torch::Tensor value(const torch::Tensor& features, const torch::Tensor& rig);
   /// log sigma [2] of the action, a trained parameter; only with config().learned_std.
@@ -81,15 +103,23 @@ class PolicyNetworkImpl : public torch::nn::Module {
 
  private:
   torch::Tensor rigOrZero(const torch::Tensor& rig);
+  /// The body's and rig term's mean, before unit_mean's scaling.
+  torch::Tensor rawMean(const torch::Tensor& features, const torch::Tensor& rig);
 
   PolicyConfig config_;
   MultiTaskUNet backbone_{nullptr};
   torch::nn::Sequential actor_body_{nullptr};
   torch::nn::Linear actor_rig_{nullptr};
   torch::nn::Sequential critic_{nullptr};
-  torch::Tensor log_std_;  // [2], registered with learned_std only
+  torch::Tensor log_std_;                        // [2], registered with learned_std only
+  torch::nn::Linear actor_directions_{nullptr};  // the logits' correction, with directions only
+  torch::Tensor direction_vectors_;              // [K, 2], with directions only
 };
 TORCH_MODULE(PolicyNetwork);
+
+/// The direction k in [0, count) that a uniform draw `uniform` in [0, 1) picks from the
+/// log-probabilities `log_probs` (inverse transform sampling).
+int sampleDirection(const float* log_probs, int count, double uniform);
 
 /// The rig inputs of one step (see the top of this file) into `out` (3 floats).
 void writeRigInput(const Action& last_move, double elevation_rad, float* out);
@@ -107,15 +137,21 @@ struct LoadedPolicy {
 /// corrupt or mismatched file, or a file that is not a policy.
 LoadedPolicy loadPolicy(const std::string& path);
 
-/// Acts with the policy's mean action (deterministic). Allocates nothing per step once sized.
+/// Acts with the policy's mean action (deterministic), or with `sampled` an action drawn from its
+/// distribution as in training (the directions' categorical; the Gaussian's with its learned
+/// sigma, or the sigma its training ended with), from a stream seeded by the scene's seed so that
+/// an episode repeats itself. Allocates nothing per step once sized.
 class PolicyAgent : public Agent {
  public:
-  explicit PolicyAgent(std::shared_ptr<LoadedPolicy> policy);
+  explicit PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled = false);
   void reset(std::uint64_t seed) override;
   Action act(const RigObservation& observation) override;
 
  private:
   std::shared_ptr<LoadedPolicy> policy_;
+  bool sampled_;
+  double sigma_[2] = {0.0, 0.0};  // the Gaussian's per axis, when sampled
+  std::mt19937_64 random_;
   InputScratch scratch_;
   torch::Tensor input_, rig_;
   Action last_move_;
@@ -126,6 +162,8 @@ class PolicyAgent : public Agent {
 AgentEntry policyUnAgentEntry();
 AgentEntry policyInAgentEntry();
 AgentEntry policyAgentEntry();
+/// Any policy file by path, its actions sampled (PolicyAgent's `sampled`).
+AgentEntry policySampledAgentEntry();
 
 }  // namespace learning
 }  // namespace occlusion_env
