@@ -223,7 +223,6 @@ class PpoTrainer {
     LoadedModel pretrained = loadModel(options_.backbone_path);
     input_format_ = pretrained.network->config().inputFormat();
     policy_ = PolicyNetwork(pretrained.network->config(), options_.policy);
-    directions_ = options_.policy.isDirections();
     policy_->initialiseFrom(pretrained.network, options_.actor_from_escape);
     if (options_.policy.learned_std) {
       torch::NoGradGuard no_grad;
@@ -286,8 +285,8 @@ class PpoTrainer {
       update.env_steps = progress_.env_steps;
       update.episodes = progress_.episodes;
       // Directions have no sigma: the column is empty (NaN).
-      update.action_std =
-          directions_ ? std::numeric_limits<double>::quiet_NaN() : std.mean().item<double>();
+      update.action_std = options_.policy.isDirections() ? std::numeric_limits<double>::quiet_NaN()
+                                                         : std.mean().item<double>();
       summariseEpisodes(update);
       update.seconds = secondsSince(start);
       update.steps_per_second = (progress_.env_steps - start_steps) / update.seconds;
@@ -353,7 +352,7 @@ class PpoTrainer {
     {
       const auto start = Clock::now();
       torch::NoGradGuard no_grad;
-      if (directions_) {
+      if (options_.policy.isDirections()) {
         log_probs = policy_->directionLogProbabilities(features, rig);
       } else {
         mean = policy_->actionMean(features, rig);
@@ -365,7 +364,7 @@ class PpoTrainer {
     torch::Tensor actions = torch::zeros({n, 2});
     torch::Tensor moves = actions;
     torch::Tensor action_log_probs;
-    if (directions_) {
+    if (options_.policy.isDirections()) {
       moves = torch::empty({n, 2});
       action_log_probs = torch::empty({n});
       log_probs = log_probs.contiguous();
@@ -560,7 +559,7 @@ class PpoTrainer {
     const torch::Tensor rig = rollout.rig.index_select(0, index);
     const torch::Tensor actions = rollout.actions.index_select(0, index);
     torch::Tensor log_prob, entropy;
-    if (directions_) {
+    if (options_.policy.isDirections()) {
       const torch::Tensor log_probs = policy_->directionLogProbabilities(features, rig);
       log_prob = log_probs.gather(1, actions.select(1, 0).to(torch::kLong).unsqueeze(1)).squeeze(1);
       entropy = -(log_probs.exp() * log_probs).sum(1).mean();
@@ -617,8 +616,6 @@ class PpoTrainer {
     }
 
     PpoUpdate update;
-    // The Gaussian's at the rollout's sigma; the directions' over the update's minibatches.
-    if (!directions_) update.entropy = gaussianEntropy(std).item<double>();
     std::vector<int64_t> order(rows);
     std::iota(order.begin(), order.end(), 0);
     const int minibatch = std::min(options_.minibatch_size, rows);
@@ -651,7 +648,9 @@ class PpoTrainer {
     update.policy_loss = sum.policy_loss / std::max(1, batches);
     update.value_loss = sum.value_loss / std::max(1, batches);
     update.approx_kl = sum.kl / std::max(1, batches);
-    if (directions_) update.entropy = sum.entropy / std::max(1, batches);
+    // The Gaussian's at the rollout's sigma; the directions' over the update's minibatches.
+    update.entropy = options_.policy.isDirections() ? sum.entropy / std::max(1, batches)
+                                                    : gaussianEntropy(std).item<double>();
     update.clip_fraction = sum.clip_fraction / std::max(1, batches);
     const double return_variance = returns.var().item<double>();
     update.explained_variance =
@@ -768,7 +767,6 @@ class PpoTrainer {
   PpoCallbacks callbacks_;
   InputFormat input_format_;  // the pretrained network's
   PolicyNetwork policy_{nullptr};
-  bool directions_ = false;  // the policy's action is a direction (PolicyConfig::action)
   std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
