@@ -9,12 +9,33 @@
 
 namespace occlusion_env {
 namespace learning {
+namespace {
+
+// How much the escape-bins agent prefers bins along its last move: lambda of the bias
+// lambda * cos(theta_k - theta_last) added to the bins' log-probabilities when choosing one.
+// Without it the agent flips between equally likely modes from one step to the next
+// (doc/TRAINING.md, "An escape head that chooses"); 1 was chosen on validation scenes among 1, 2
+// and 3.
+constexpr double kLastMoveBias = 1.0;
+
+// The choice bias [1, bins] of escapeDirectionFromLogits for the rig's last move, from the bins'
+// angles [1, bins]; undefined (no bias) after a reset.
+torch::Tensor lastMoveBias(const torch::Tensor& bin_angles, const Action& last_move) {
+  if (last_move.d_azimuth_rad == 0.0 && last_move.d_elevation_rad == 0.0) return {};
+  const double last = std::atan2(last_move.d_elevation_rad, last_move.d_azimuth_rad);
+  return kLastMoveBias * torch::cos(bin_angles - last);
+}
+
+}  // namespace
 
 NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model, DirectionHead head)
     : model_(std::move(model)), head_(head) {
   if (!model_ || !model_->network) throw InvalidArgumentError("network agent: no model");
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
+  const int bins = model_->network->config().escape_bins;
+  if (bins > 0)
+    bin_angles_ = (torch::arange(bins, torch::kFloat) * (2.0 * M_PI / bins)).view({1, bins});
 }
 
 void NetworkDirectionAgent::reset(std::uint64_t) {}
@@ -25,9 +46,14 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.
   auto& network = model_->network;
+  const torch::Tensor features = network->encode(input_);
+  // A network with an escape-bins head escapes along its best bin, not the regression's mean.
   const torch::Tensor direction =
-      (head_ == DirectionHead::kGradient ? network->gradientHead() : network->escapeHead())
-          ->forward(network->encode(input_));
+      head_ == DirectionHead::kGradient ? network->gradientHead()->forward(features)
+      : network->escapeBinsHead()
+          ? escapeDirectionFromLogits(network->escapeBinsHead()->forward(features),
+                                      lastMoveBias(bin_angles_, observation.last_action))
+          : network->escapeHead()->forward(features);
   const float sin = direction[0][0].item<float>(), cos = direction[0][1].item<float>();
   if (!std::isfinite(sin) || !std::isfinite(cos) || (sin == 0.0f && cos == 0.0f)) {
     throw std::runtime_error("the network predicted no direction");

@@ -1,5 +1,7 @@
 #include "occlusion_env/learning/multitask_unet.hpp"
 
+#include <cmath>
+
 #include "occlusion_env/common/errors.hpp"
 
 namespace occlusion_env {
@@ -25,9 +27,9 @@ void appendConvUnit(nn::Sequential& unit, int in, int out, const NetworkConfig& 
   unit->push_back(nn::BatchNorm2d(out));
 }
 
-nn::Sequential directionHead(int features) {
+nn::Sequential directionHead(int features, int outputs = 2) {
   return nn::Sequential(nn::Linear(features, 64), nn::ReLU(nn::ReLUOptions(true)),
-                        nn::Linear(64, 2));
+                        nn::Linear(64, outputs));
 }
 
 }  // namespace
@@ -50,7 +52,12 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
-               OptionSpec("encoder stages, each halving the size").range(1, 6).flag(""));
+               OptionSpec("encoder stages, each halving the size").range(1, 6).flag(""))
+          .add("escape_bins", &NetworkConfig::escape_bins,
+               OptionSpec("directions of the one-step circle an escape-bins head scores (trained "
+                          "by cross-entropy; the predicted-escape agent then takes the best); 0 = "
+                          "no such head")
+                   .range(0, 360));
   return table;
 }
 
@@ -67,12 +74,16 @@ InputFormat NetworkConfig::inputFormat() const {
 }
 
 nlohmann::json NetworkConfig::toJson() const {
-  return networkConfigTable().toJson(*this);
+  nlohmann::json json = networkConfigTable().toJson(*this);
+  // Only with the head, so that networks without one keep the identity they always had.
+  if (escape_bins == 0) json.erase("escape_bins");
+  return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    if (key == "depth_gaps") continue;  // "far" when absent: recorded before it existed
+    // "far" and 0 when absent: recorded before they existed.
+    if (key == "depth_gaps" || key == "escape_bins") continue;
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
   }
   NetworkConfig config;
@@ -116,6 +127,10 @@ MultiTaskUNetImpl::MultiTaskUNetImpl(const NetworkConfig& config) : config_(conf
   occlusion_head_ = register_module("occlusion_head", nn::Conv2d(nn::Conv2dOptions(base, 1, 1)));
   gradient_head_ = register_module("gradient_head", directionHead(config_.bottleneckChannels()));
   escape_head_ = register_module("escape_head", directionHead(config_.bottleneckChannels()));
+  if (config_.escape_bins > 0) {
+    escape_bins_head_ = register_module(
+        "escape_bins_head", directionHead(config_.bottleneckChannels(), config_.escape_bins));
+  }
 }
 
 torch::Tensor MultiTaskUNetImpl::encoderFeatures(torch::Tensor input,
@@ -146,7 +161,37 @@ NetworkOutput MultiTaskUNetImpl::forward(torch::Tensor input) {
   out.occlusion_logits = occlusion_head_->forward(x);
   out.gradient_direction = gradient_head_->forward(out.features);
   out.escape_direction = escape_head_->forward(out.features);
+  if (escape_bins_head_) out.escape_logits = escape_bins_head_->forward(out.features);
   return out;
+}
+
+double escapeBinAngleRad(int k, int bins) {
+  return 2.0 * M_PI * k / bins;
+}
+
+torch::Tensor escapeBinTargets(const torch::Tensor& labels, int bins, double kappa) {
+  const torch::Tensor angles = torch::arange(bins, torch::kFloat) * (2.0 * M_PI / bins);
+  const torch::Tensor label_angles = torch::atan2(labels.select(1, 0), labels.select(1, 1));
+  // cos(theta_k - theta) for every label and bin: [B, bins].
+  const torch::Tensor cosines = torch::cos(angles.unsqueeze(0) - label_angles.unsqueeze(1));
+  return torch::softmax(kappa * cosines, 1);
+}
+
+torch::Tensor escapeDirectionFromLogits(const torch::Tensor& logits,
+                                        const torch::Tensor& choice_bias) {
+  const int64_t bins = logits.size(1);
+  const torch::Tensor probabilities = torch::softmax(logits, 1);
+  const torch::Tensor best = choice_bias.defined()
+                                 ? (torch::log_softmax(logits, 1) + choice_bias).argmax(1, true)
+                                 : probabilities.argmax(1, true);  // [B, 1]
+  const torch::Tensor neighbours =
+      torch::cat({(best + bins - 1) % bins, best, (best + 1) % bins}, 1);  // [B, 3]
+  const torch::Tensor weights = probabilities.gather(1, neighbours);
+  const torch::Tensor angles = neighbours.to(torch::kFloat) * (2.0 * M_PI / bins);
+  const torch::Tensor sin = (weights * torch::sin(angles)).sum(1);
+  const torch::Tensor cos = (weights * torch::cos(angles)).sum(1);
+  const torch::Tensor direction = torch::stack({sin, cos}, 1);
+  return direction / direction.norm(2, 1, true).clamp_min(1e-12);
 }
 
 }  // namespace learning

@@ -20,10 +20,13 @@ namespace occlusion_env {
 namespace learning {
 
 // The JSON form of EpochMetrics (checkpoint state and model manifests), field by field.
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EpochMetrics, epoch, learning_rate, train_loss, val_dice_loss,
-                                   val_pixel_accuracy, val_iou, val_gradient_mse, val_escape_mse,
-                                   val_gradient_angle_deg, val_escape_angle_deg, seconds,
-                                   images_per_second)
+// Fields a run recorded before they existed read as their defaults.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(EpochMetrics, epoch, learning_rate, train_loss,
+                                                val_dice_loss, val_pixel_accuracy, val_iou,
+                                                val_gradient_mse, val_escape_mse,
+                                                val_gradient_angle_deg, val_escape_angle_deg,
+                                                val_escape_bins_angle_deg, seconds,
+                                                images_per_second)
 
 namespace {
 
@@ -153,12 +156,13 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
   std::ofstream out(path);
   out << "epoch,learning_rate,train_loss,val_dice_loss,val_pixel_accuracy,val_iou,"
          "val_gradient_mse,val_escape_mse,val_gradient_angle_deg,val_escape_angle_deg,seconds,"
-         "images_per_second\n";
+         "images_per_second,val_escape_bins_angle_deg\n";
   for (const EpochMetrics& m : epochs) {
     out << m.epoch << ',' << m.learning_rate << ',' << m.train_loss << ',' << m.val_dice_loss << ','
         << m.val_pixel_accuracy << ',' << m.val_iou << ',' << m.val_gradient_mse << ','
         << m.val_escape_mse << ',' << m.val_gradient_angle_deg << ',' << m.val_escape_angle_deg
-        << ',' << m.seconds << ',' << m.images_per_second << '\n';
+        << ',' << m.seconds << ',' << m.images_per_second << ',' << m.val_escape_bins_angle_deg
+        << '\n';
   }
 }
 
@@ -315,9 +319,15 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
           .add("direction_loss", &O::direction_loss,
                OptionSpec("loss of the direction heads (smooth_l1: beta 0.01, the paper's -L1)")
                    .choices({"mse", "smooth_l1"}))
+          .add("escape_bin_concentration", &O::escape_bin_concentration,
+               OptionSpec("with --escape-bins: kappa of the von Mises bump around the escape "
+                          "label that the escape-bins head's cross-entropy aims at (larger: "
+                          "narrower)")
+                   .range(0.1, 1000))
           .add("dice_weight", &O::dice_weight, OptionSpec("beta_1 (Eq. 12)").range(0, 1000))
           .add("direction_weight", &O::direction_weight,
-               OptionSpec("beta_2, for each of the two direction heads").range(0, 1000))
+               OptionSpec("beta_2, for each direction head (and the escape-bins head)")
+                   .range(0, 1000))
           .add("bce_weight", &O::bce_weight,
                OptionSpec("adds this times a pixel-wise binary cross-entropy on the occlusion map "
                           "to the paper's loss (0: the paper's loss)")
@@ -352,6 +362,7 @@ nlohmann::json TrainingOptions::toJson() const {
   // Only when set, so that runs from random weights keep the identity they always had.
   if (init_from.empty()) json.erase("init_from");
   if (shift == 0.0) json.erase("shift");
+  if (network.escape_bins == 0) json.erase("escape_bin_concentration");  // nothing it weighs
   json["network"] = network.toJson();
   return json;
 }
@@ -362,6 +373,7 @@ nlohmann::json EpochMetrics::toJson() const {
 
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss) {
+  double escape_bins_angle = 0.0;
   torch::NoGradGuard no_grad;
   const bool was_training = network->is_training();
   network->eval();
@@ -393,6 +405,13 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
                           .item<double>();
     escape_angle +=
         (angleErrors(out.escape_direction, batch.escape) * batch.escape_valid).sum().item<double>();
+    if (out.escape_logits.defined()) {
+      escape_bins_angle +=
+          (angleErrors(escapeDirectionFromLogits(out.escape_logits), batch.escape) *
+           batch.escape_valid)
+              .sum()
+              .item<double>();
+    }
     gradient_count += batch.gradient_valid.sum().item<double>();
     escape_count += batch.escape_valid.sum().item<double>();
   }
@@ -405,6 +424,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_escape_mse = escape_loss / std::max(1.0, escape_count);
   m.val_gradient_angle_deg = gradient_angle / std::max(1.0, gradient_count);
   m.val_escape_angle_deg = escape_angle / std::max(1.0, escape_count);
+  m.val_escape_bins_angle_deg = escape_bins_angle / std::max(1.0, escape_count);
   return m;
 }
 
@@ -415,10 +435,12 @@ namespace {
 nlohmann::json initialModelManifest(const TrainingOptions& options) {
   if (options.init_from.empty()) return nlohmann::json();
   nlohmann::json init_manifest = readManifest(options.init_from);
-  // The same weights' shapes: depth_gaps may differ (a network retrained on another input).
+  // The same weights' shapes: depth_gaps may differ (a network retrained on another input), and
+  // escape_bins (the run adds or replaces that head, loadInitialWeights).
   const auto architecture = [](const NetworkConfig& network) {
     nlohmann::json json = network.toJson();
     json.erase("depth_gaps");
+    json.erase("escape_bins");
     return json;
   };
   if (init_manifest.value("kind", "multitask_unet") != "multitask_unet" ||
@@ -444,6 +466,34 @@ nlohmann::json runIdentity(const TrainingData& data, const TrainingOptions& opti
   if (!data.extra_dataset_dirs.empty()) identity["extra_datasets"] = data.extra_dataset_dirs;
   if (!options.init_from.empty()) identity["init_from_manifest"] = init_manifest;
   return identity;
+}
+
+// Loads options.init_from into `network`. A model without the escape-bins head (or with another
+// number of bins) gives every other weight, and the head starts from its initial weights.
+void loadInitialWeights(MultiTaskUNet& network, const TrainingOptions& options) {
+  NetworkConfig init_config = options.network;
+  const nlohmann::json manifest = readManifest(options.init_from);
+  if (manifest.contains("network")) {
+    init_config.escape_bins = NetworkConfig::fromJson(manifest.at("network")).escape_bins;
+  }
+  const std::string what =
+      "the network being trained (" + init_config.toJson().dump() + ", escape-bins head aside)";
+  if (init_config.escape_bins == options.network.escape_bins) {
+    loadCheckedParameters(*network, options.init_from, what);
+    return;
+  }
+  MultiTaskUNet init(init_config);
+  loadCheckedParameters(*init, options.init_from, what);
+  torch::NoGradGuard no_grad;
+  const auto copy = [](const torch::OrderedDict<std::string, torch::Tensor>& from,
+                       torch::OrderedDict<std::string, torch::Tensor> to) {
+    for (const auto& item : from) {
+      if (item.key().rfind("escape_bins_head.", 0) == 0) continue;
+      to[item.key()].copy_(item.value());
+    }
+  };
+  copy(init->named_parameters(), network->named_parameters());
+  copy(init->named_buffers(), network->named_buffers());
 }
 
 // Where a run stands: the epochs done and the best validation IoU so far.
@@ -483,8 +533,7 @@ TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& opti
       progress.history.push_back(epoch.get<EpochMetrics>());
     progress.best_iou = state.at("best_iou").get<double>();
   } else if (!options.init_from.empty()) {
-    loadCheckedParameters(*network, options.init_from,
-                          "the network being trained (" + options.network.toJson().dump() + ")");
+    loadInitialWeights(network, options);
   }
   return progress;
 }
@@ -499,6 +548,13 @@ torch::Tensor batchLoss(const NetworkOutput& out, const Batch& batch,
                       batch.gradient_valid) +
            maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
                       batch.escape_valid));
+  if (out.escape_logits.defined()) {
+    const torch::Tensor targets = escapeBinTargets(batch.escape, options.network.escape_bins,
+                                                   options.escape_bin_concentration);
+    const torch::Tensor cross_entropy =
+        -(targets * torch::log_softmax(out.escape_logits, 1)).sum(1);
+    loss = loss + options.direction_weight * maskedMean(cross_entropy, batch.escape_valid);
+  }
   if (options.bce_weight > 0.0) {  // not computed at all under the paper's loss
     loss = loss + options.bce_weight *
                       torch::binary_cross_entropy_with_logits(out.occlusion_logits, batch.masks);

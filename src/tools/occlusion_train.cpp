@@ -129,7 +129,11 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
             << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
             << 100.0 * m.val_pixel_accuracy << " %, dice loss " << std::setprecision(4)
             << m.val_dice_loss << ", gradient " << std::setprecision(1) << m.val_gradient_angle_deg
-            << " deg, escape " << m.val_escape_angle_deg << " deg (" << out << ")\n";
+            << " deg, escape " << m.val_escape_angle_deg << " deg"
+            << (m.val_escape_bins_angle_deg > 0.0
+                    ? " (bins " + std::to_string(m.val_escape_bins_angle_deg).substr(0, 5) + " deg)"
+                    : std::string())
+            << " (" << out << ")\n";
   return 0;
 }
 
@@ -157,7 +161,11 @@ occlusion_env::learning::TrainingCallbacks progressReport(
               << ", gradient MSE " << m.val_gradient_mse << " (" << std::setprecision(1)
               << m.val_gradient_angle_deg << " deg), escape MSE " << std::setprecision(4)
               << m.val_escape_mse << " (" << std::setprecision(1) << m.val_escape_angle_deg
-              << " deg), " << std::setprecision(0) << m.images_per_second << " img/s\n";
+              << " deg";
+    if (m.val_escape_bins_angle_deg > 0.0) {
+      std::cerr << "; bins " << m.val_escape_bins_angle_deg << " deg";
+    }
+    std::cerr << "), " << std::setprecision(0) << m.images_per_second << " img/s\n";
   };
   return callbacks;
 }

@@ -260,6 +260,87 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   }
 }
 
+// The escape-bins head: its targets peak at the label's bin, its choice is one mode of two (not
+// their mean), a run adds it to a model without one (every other weight kept), and the
+// predicted-escape agent of such a model moves along the head's choice.
+TEST(LearningTest, AnEscapeBinsHeadChoosesAModeAndStartsFromAModelWithoutOne) {
+  constexpr int kBins = 16;
+  const double label = escapeBinAngleRad(5, kBins);
+  const torch::Tensor targets = escapeBinTargets(
+      torch::tensor({{static_cast<float>(std::sin(label)), static_cast<float>(std::cos(label))}}),
+      kBins, 8.0);
+  EXPECT_EQ(targets.argmax(1).item<int64_t>(), 5);
+  EXPECT_NEAR(targets.sum().item<double>(), 1.0, 1e-5);
+  EXPECT_NEAR(targets[0][4].item<double>(), targets[0][6].item<double>(), 1e-6);
+
+  // Two modes, bins 2 and 10 (opposite); bin 2 a little likelier, its neighbours alike.
+  torch::Tensor logits = torch::full({1, kBins}, -10.0);
+  logits[0][2] = 3.0;
+  logits[0][10] = 2.9;
+  logits[0][1] = logits[0][3] = 1.0;
+  const torch::Tensor direction = escapeDirectionFromLogits(logits);
+  const double chosen = std::atan2(direction[0][0].item<double>(), direction[0][1].item<double>());
+  EXPECT_NEAR(chosen, escapeBinAngleRad(2, kBins), 1e-5);
+  EXPECT_NEAR(direction.norm().item<double>(), 1.0, 1e-5);
+  // A bias towards the other mode (as the agent's last move gives) chooses it.
+  const torch::Tensor bias = torch::zeros({1, kBins});
+  bias[0][10] = 0.5;
+  const torch::Tensor biased = escapeDirectionFromLogits(logits, bias);
+  EXPECT_NEAR(std::atan2(biased[0][0].item<double>(), biased[0][1].item<double>()),
+              escapeBinAngleRad(10, kBins) - 2.0 * M_PI, 1e-5);
+  logits[0][3] = 2.0;  // the neighbour on one side likelier: the choice leans towards it
+  const torch::Tensor leaning = escapeDirectionFromLogits(logits);
+  const double leaned = std::atan2(leaning[0][0].item<double>(), leaning[0][1].item<double>());
+  EXPECT_GT(leaned, escapeBinAngleRad(2, kBins));
+  EXPECT_LT(leaned, escapeBinAngleRad(3, kBins));
+
+  // Networks recorded before the head existed have none; the field is written only with it.
+  NetworkConfig config;
+  nlohmann::json json = config.toJson();
+  EXPECT_FALSE(json.contains("escape_bins"));
+  EXPECT_EQ(NetworkConfig::fromJson(json).escape_bins, 0);
+  config.escape_bins = kBins;
+  EXPECT_EQ(NetworkConfig::fromJson(config.toJson()).escape_bins, kBins);
+
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_bins_data");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  const fs::path source_dir = temporaryDir("occlusion_env_learning_bins_source");
+  train(data, tinyTraining(1), source_dir.string(), {});
+  const std::string source = (source_dir / "best.pt").string();
+  TrainingOptions with_bins = tinyTraining(1);
+  with_bins.network.escape_bins = kBins;
+  with_bins.learning_rate = 1e-7;
+  with_bins.init_from = source;
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_bins_run");
+  const std::vector<EpochMetrics> epochs = train(data, with_bins, run_dir.string(), {});
+  ASSERT_EQ(epochs.size(), 1u);
+  EXPECT_GT(epochs[0].val_escape_bins_angle_deg, 0.0);
+  const std::string best = (run_dir / "best.pt").string();
+  EXPECT_LT(largestParameterDifference(source, best), 1e-5);
+  LoadedModel model = loadModel(best);
+  ASSERT_TRUE(model.network->escapeBinsHead());
+  EXPECT_EQ(model.network->config().escape_bins, kBins);
+
+  EnvironmentOptions env_options;
+  env_options.width = env_options.height = 64;
+  Environment environment(env_options);
+  const StepResult start = environment.reset(1000000);
+  const auto agent = learningAgents().make("predicted_escape", {environment, best});
+  const Action action = agent->act(rigObservationOf(start));
+  torch::Tensor input = torch::empty({1, 4, 32, 32});
+  InputScratch scratch;
+  writeNetworkInput(start.observation->rgb, start.observation->depth,
+                    model.network->config().inputFormat(), scratch, input.data_ptr<float>());
+  torch::NoGradGuard no_grad;
+  model.network->eval();
+  const torch::Tensor expected = escapeDirectionFromLogits(
+      model.network->escapeBinsHead()->forward(model.network->encode(input)));
+  EXPECT_NEAR(action.d_elevation_rad, expected[0][0].item<double>(), 1e-5);
+  EXPECT_NEAR(action.d_azimuth_rad, expected[0][1].item<double>(), 1e-5);
+  for (const fs::path& dir : {data_dir, source_dir, run_dir}) fs::remove_all(dir);
+}
+
 // keep_epochs keeps each epoch's model with its manifest; it does not change the run, so a run
 // with it resumes one without it and ends with the same weights.
 TEST(LearningTest, KeptEpochsAreEachEpochsModel) {

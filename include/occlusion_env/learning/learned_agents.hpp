@@ -17,6 +17,8 @@ namespace learning {
 enum class DirectionHead { kGradient, kEscape };
 
 /// Moves one unit step along the direction the network's `head` predicts for the current image.
+/// With an escape-bins head the escape direction is the head's best bin, leaning towards the
+/// rig's last move (escapeDirectionFromLogits with a bias of cos(theta_k - theta_last)).
 /// Inference allocates nothing once the first observation has sized its buffers.
 class NetworkDirectionAgent : public Agent {
  public:
@@ -29,6 +31,7 @@ class NetworkDirectionAgent : public Agent {
   DirectionHead head_;
   InputScratch scratch_;
   torch::Tensor input_;
+  torch::Tensor bin_angles_;  // [1, escape_bins] [rad], with an escape-bins head
 };
 
 /// The shipped model the learned agents use by default in the simulator (models/, doc/AGENTS.md):

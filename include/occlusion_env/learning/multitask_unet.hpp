@@ -9,6 +9,10 @@
 // units (the units run on the upsampled features: the original code's transposed-conv block
 // upsampled its input and left its convs unused). A 1x1 conv gives the occlusion logits.
 // Heads: global average pooling of the bottleneck, then Linear -> ReLU -> Linear to (sin, cos).
+// Optionally (escape_bins > 0) a third head of the same shape scores escape_bins directions of the
+// one-step circle (a classification of the escape direction): where several first steps are
+// equally short, the regression's (sin, cos) is their mean, which is none of them; the scores'
+// best bin is one of them.
 //
 // Variants (Table 3): unet; r_unet (the two conv units of a stage are residual); sr_unet
 // (residual, each 3x3 conv factorised as 3x1 -> 1x3 -> 1x1); sar_unet (sr_unet with dilation 2 in
@@ -32,6 +36,7 @@ struct NetworkConfig {
   int levels = 5;
   int input_size = 64;             // [px], a multiple of 2^levels
   std::string depth_gaps = "far";  // far | filled: how missing depth enters (network_input.hpp)
+  int escape_bins = 0;             // directions scored by the escape-bins head; 0 = no such head
 
   bool residual() const { return variant != "unet"; }
   bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
@@ -45,7 +50,7 @@ struct NetworkConfig {
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
   /// Refuses unknown names and a missing field (every manifest states the whole network), but
-  /// depth_gaps, which models recorded before it existed lack: they are "far".
+  /// depth_gaps and escape_bins, which models recorded before they existed lack: "far" and 0.
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 
@@ -56,6 +61,7 @@ struct NetworkOutput {
   torch::Tensor occlusion_logits;    // [B, 1, S, S]
   torch::Tensor gradient_direction;  // [B, 2]: (sin, cos) of the descent direction, unnormalised
   torch::Tensor escape_direction;    // [B, 2]: (sin, cos) of the escape direction, unnormalised
+  torch::Tensor escape_logits;       // [B, escape_bins], undefined without the escape-bins head
   torch::Tensor features;            // [B, C]: the pooled bottleneck (for policies)
 };
 
@@ -84,6 +90,8 @@ class MultiTaskUNetImpl : public torch::nn::Module {
   /// escape head.
   torch::nn::Sequential& gradientHead() { return gradient_head_; }
   torch::nn::Sequential& escapeHead() { return escape_head_; }
+  /// The escape-bins head (escape_bins logits from encode()'s features); null without one.
+  torch::nn::Sequential& escapeBinsHead() { return escape_bins_head_; }
 
  private:
   torch::Tensor encoderFeatures(torch::Tensor input, std::vector<torch::Tensor>* skips);
@@ -92,9 +100,22 @@ class MultiTaskUNetImpl : public torch::nn::Module {
   torch::nn::Conv2d stem_{nullptr};
   torch::nn::ModuleList encoder_units_, downsamplers_, upsamplers_, decoder_units_;
   torch::nn::Conv2d occlusion_head_{nullptr};
-  torch::nn::Sequential gradient_head_{nullptr}, escape_head_{nullptr};
+  torch::nn::Sequential gradient_head_{nullptr}, escape_head_{nullptr}, escape_bins_head_{nullptr};
 };
 TORCH_MODULE(MultiTaskUNet);
+
+/// The direction of bin k of `bins` around the circle: theta_k = 2 pi k / bins, as
+/// atan2(d_elevation, d_azimuth) (doc/CONVENTIONS.md).
+double escapeBinAngleRad(int k, int bins);
+/// Soft targets [B, bins] for escape labels [B, 2] (sin, cos): a von Mises bump of concentration
+/// `kappa` around each label, sampled at the bins' angles and normalised.
+torch::Tensor escapeBinTargets(const torch::Tensor& labels, int bins, double kappa);
+/// The direction [B, 2] (sin, cos), unit, that escape logits [B, bins] choose: the best bin,
+/// refined by the probability-weighted mean of it and its two neighbours.
+/// `choice_bias` [B, bins], when given, is added to the log-probabilities for choosing the bin (not
+/// for the refinement).
+torch::Tensor escapeDirectionFromLogits(const torch::Tensor& logits,
+                                        const torch::Tensor& choice_bias = {});
 
 }  // namespace learning
 }  // namespace occlusion_env

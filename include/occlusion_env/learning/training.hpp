@@ -65,11 +65,14 @@ struct TrainingOptions {
   double learning_rate = 1e-3;  // AdamW, cosine-annealed to 0 over all epochs (per batch)
   double weight_decay = 1e-5;
   double dice_weight = 1.0;       // beta_1 (Eq. 12)
-  double direction_weight = 1.0;  // beta_2, for each of the two direction heads
+  double direction_weight = 1.0;  // beta_2, for each direction head (and the escape-bins head)
   double bce_weight = 0.0;  // weight of a pixel-wise binary cross-entropy on the occlusion map,
                             // added to the paper's loss (0: the paper's loss)
   std::string direction_loss = "mse";  // mse | smooth_l1 (beta 0.01: the paper's -L1 variant)
-  bool augment = true;                 // colour jitter and horizontal flips
+  // With network.escape_bins: the escape-bins head's cross-entropy (weighted by
+  // direction_weight) is against a von Mises bump of this concentration around the label.
+  double escape_bin_concentration = 8.0;
+  bool augment = true;  // colour jitter and horizontal flips
   // With augment: each frame moved by up to this fraction of its size in x and y (uniform, whole
   // pixels), labels unchanged, the uncovered border the void's (black, no depth): an estimate that
   // follows the content, not where occlusion usually is in a centred scene. 0: no moves.
@@ -111,6 +114,7 @@ struct EpochMetrics {
   double val_escape_mse = 0.0;
   double val_gradient_angle_deg = 0.0;  // mean angular error of the normalised prediction
   double val_escape_angle_deg = 0.0;
+  double val_escape_bins_angle_deg = 0.0;  // of the escape-bins head's choice; 0 without it
   double seconds = 0.0;
   double images_per_second = 0.0;  // training throughput
 
