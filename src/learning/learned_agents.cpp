@@ -108,7 +108,8 @@ AgentEntry predictedGradientAgentEntry() {
 AgentEntry predictedEscapeAgentEntry() {
   return networkEntry("predicted_escape",
                       "a unit move along the escape direction (the oracle's first step) the "
-                      "multi-task network predicts from the RGB-D image alone",
+                      "multi-task network predicts from the RGB-D image alone (with an "
+                      "escape-bins head: its best bin, leaning towards the last move)",
                       "", DirectionHead::kEscape);
 }
 
