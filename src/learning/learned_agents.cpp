@@ -34,8 +34,7 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   const int bins = model_->network->config().escape_bins;
-  if (bins > 0)
-    bin_angles_ = (torch::arange(bins, torch::kFloat) * (2.0 * M_PI / bins)).view({1, bins});
+  if (bins > 0) bin_angles_ = escapeBinAngles(bins).view({1, bins});
 }
 
 void NetworkDirectionAgent::reset(std::uint64_t) {}

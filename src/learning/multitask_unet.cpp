@@ -169,8 +169,12 @@ double escapeBinAngleRad(int k, int bins) {
   return 2.0 * M_PI * k / bins;
 }
 
+torch::Tensor escapeBinAngles(int bins) {
+  return torch::arange(bins, torch::kFloat) * (2.0 * M_PI / bins);
+}
+
 torch::Tensor escapeBinTargets(const torch::Tensor& labels, int bins, double kappa) {
-  const torch::Tensor angles = torch::arange(bins, torch::kFloat) * (2.0 * M_PI / bins);
+  const torch::Tensor angles = escapeBinAngles(bins);
   const torch::Tensor label_angles = torch::atan2(labels.select(1, 0), labels.select(1, 1));
   // cos(theta_k - theta) for every label and bin: [B, bins].
   const torch::Tensor cosines = torch::cos(angles.unsqueeze(0) - label_angles.unsqueeze(1));
@@ -187,7 +191,7 @@ torch::Tensor escapeDirectionFromLogits(const torch::Tensor& logits,
   const torch::Tensor neighbours =
       torch::cat({(best + bins - 1) % bins, best, (best + 1) % bins}, 1);  // [B, 3]
   const torch::Tensor weights = probabilities.gather(1, neighbours);
-  const torch::Tensor angles = neighbours.to(torch::kFloat) * (2.0 * M_PI / bins);
+  const torch::Tensor angles = neighbours.to(torch::kFloat) * (2.0 * M_PI / bins);  // theta_k
   const torch::Tensor sin = (weights * torch::sin(angles)).sum(1);
   const torch::Tensor cos = (weights * torch::cos(angles)).sum(1);
   const torch::Tensor direction = torch::stack({sin, cos}, 1);

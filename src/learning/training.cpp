@@ -468,14 +468,13 @@ nlohmann::json runIdentity(const TrainingData& data, const TrainingOptions& opti
   return identity;
 }
 
-// Loads options.init_from into `network`. A model without the escape-bins head (or with another
-// number of bins) gives every other weight, and the head starts from its initial weights.
-void loadInitialWeights(MultiTaskUNet& network, const TrainingOptions& options) {
+// Loads options.init_from (whose manifest initialModelManifest read) into `network`. A model
+// without the escape-bins head (or with another number of bins) gives every other weight, and the
+// head starts from its initial weights.
+void loadInitialWeights(MultiTaskUNet& network, const TrainingOptions& options,
+                        const nlohmann::json& init_manifest) {
   NetworkConfig init_config = options.network;
-  const nlohmann::json manifest = readManifest(options.init_from);
-  if (manifest.contains("network")) {
-    init_config.escape_bins = NetworkConfig::fromJson(manifest.at("network")).escape_bins;
-  }
+  init_config.escape_bins = NetworkConfig::fromJson(init_manifest.at("network")).escape_bins;
   const std::string what =
       "the network being trained (" + init_config.toJson().dump() + ", escape-bins head aside)";
   if (init_config.escape_bins == options.network.escape_bins) {
@@ -513,7 +512,8 @@ struct RunFiles {
 // warm restart from options.init_from, else from the network's initial weights.
 TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
                                const RunFiles& files, const nlohmann::json& identity,
-                               const TrainingOptions& options) {
+                               const TrainingOptions& options,
+                               const nlohmann::json& init_manifest) {
   TrainingProgress progress;
   if (fs::exists(files.checkpoint) && fs::exists(files.state)) {
     std::ifstream in(files.state);
@@ -533,7 +533,7 @@ TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& opti
       progress.history.push_back(epoch.get<EpochMetrics>());
     progress.best_iou = state.at("best_iou").get<double>();
   } else if (!options.init_from.empty()) {
-    loadInitialWeights(network, options);
+    loadInitialWeights(network, options, init_manifest);
   }
   return progress;
 }
@@ -666,7 +666,8 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
   torch::optim::AdamW optimizer(
       network->parameters(),
       torch::optim::AdamWOptions(options.learning_rate).weight_decay(options.weight_decay));
-  TrainingProgress progress = resumeOrStart(network, optimizer, files, identity, options);
+  TrainingProgress progress =
+      resumeOrStart(network, optimizer, files, identity, options, init_manifest);
   const int first_epoch = static_cast<int>(progress.history.size()) + 1;
   for (int epoch = first_epoch; epoch <= options.epochs; ++epoch) {
     const EpochMetrics metrics = trainEpoch(network, optimizer, data, options, epoch, callbacks);

@@ -214,15 +214,32 @@ double largestParameterDifference(const std::string& a, const std::string& b) {
   return largest;
 }
 
+// A tiny dataset (4 scenes of 4 frames, at 32 px) and a model trained on it for `epochs`, each
+// in a temporary folder named after `tag`: the start of a warm restart.
+struct WarmStart {
+  fs::path data_dir, source_dir;
+  TrainingData data;
+  std::string source;  // the model file
+};
+
+WarmStart warmStart(const std::string& tag, int epochs) {
+  WarmStart start;
+  start.data_dir = temporaryDir("occlusion_env_learning_" + tag + "_data");
+  dataset::generateDataset(start.data_dir.string(), tinyDataset(4, 4, 0.25));
+  start.data = loadTrainingData(start.data_dir.string(), 32);
+  start.source_dir = temporaryDir("occlusion_env_learning_" + tag + "_source");
+  train(start.data, tinyTraining(epochs), start.source_dir.string(), {});
+  start.source = (start.source_dir / "best.pt").string();
+  return start;
+}
+
 // --init-from: a run starts from the given model's weights (a warm restart), records it, refuses
 // a model of another network, and resumes only with the same starting model.
 TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
-  const fs::path data_dir = temporaryDir("occlusion_env_learning_warm_data");
-  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
-  const TrainingData data = loadTrainingData(data_dir.string(), 32);
-  const fs::path source_dir = temporaryDir("occlusion_env_learning_warm_source");
-  train(data, tinyTraining(3), source_dir.string(), {});
-  const std::string source = (source_dir / "best.pt").string();
+  const WarmStart start = warmStart("warm", 3);
+  const fs::path &data_dir = start.data_dir, &source_dir = start.source_dir;
+  const TrainingData& data = start.data;
+  const std::string& source = start.source;
 
   // With a vanishing learning rate the weights stay where they started: at the source's with
   // --init-from, at random ones without.
@@ -302,12 +319,9 @@ TEST(LearningTest, AnEscapeBinsHeadChoosesAModeAndStartsFromAModelWithoutOne) {
   config.escape_bins = kBins;
   EXPECT_EQ(NetworkConfig::fromJson(config.toJson()).escape_bins, kBins);
 
-  const fs::path data_dir = temporaryDir("occlusion_env_learning_bins_data");
-  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
-  const TrainingData data = loadTrainingData(data_dir.string(), 32);
-  const fs::path source_dir = temporaryDir("occlusion_env_learning_bins_source");
-  train(data, tinyTraining(1), source_dir.string(), {});
-  const std::string source = (source_dir / "best.pt").string();
+  const WarmStart warm = warmStart("bins", 1);
+  const TrainingData& data = warm.data;
+  const std::string& source = warm.source;
   TrainingOptions with_bins = tinyTraining(1);
   with_bins.network.escape_bins = kBins;
   with_bins.learning_rate = 1e-7;
@@ -338,7 +352,7 @@ TEST(LearningTest, AnEscapeBinsHeadChoosesAModeAndStartsFromAModelWithoutOne) {
       model.network->escapeBinsHead()->forward(model.network->encode(input)));
   EXPECT_NEAR(action.d_elevation_rad, expected[0][0].item<double>(), 1e-5);
   EXPECT_NEAR(action.d_azimuth_rad, expected[0][1].item<double>(), 1e-5);
-  for (const fs::path& dir : {data_dir, source_dir, run_dir}) fs::remove_all(dir);
+  for (const fs::path& dir : {warm.data_dir, warm.source_dir, run_dir}) fs::remove_all(dir);
 }
 
 // keep_epochs keeps each epoch's model with its manifest; it does not change the run, so a run

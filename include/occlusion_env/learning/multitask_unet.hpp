@@ -107,6 +107,8 @@ TORCH_MODULE(MultiTaskUNet);
 /// The direction of bin k of `bins` around the circle: theta_k = 2 pi k / bins, as
 /// atan2(d_elevation, d_azimuth) (doc/CONVENTIONS.md).
 double escapeBinAngleRad(int k, int bins);
+/// Every bin's theta_k [rad], [bins] floats.
+torch::Tensor escapeBinAngles(int bins);
 /// Soft targets [B, bins] for escape labels [B, 2] (sin, cos): a von Mises bump of concentration
 /// `kappa` around each label, sampled at the bins' angles and normalised.
 torch::Tensor escapeBinTargets(const torch::Tensor& labels, int bins, double kappa);
