@@ -19,7 +19,7 @@ constexpr const char* kHeaderV1 =
 constexpr EpisodeEnd kAllEnds[] = {EpisodeEnd::kSuccess,         EpisodeEnd::kTruncated,
                                    EpisodeEnd::kStepLimit,       EpisodeEnd::kEnvironmentError,
                                    EpisodeEnd::kEnvironmentLost, EpisodeEnd::kAgentFailed,
-                                   EpisodeEnd::kStopped};
+                                   EpisodeEnd::kStopped,         EpisodeEnd::kUnusableView};
 
 void requirePlainName(const std::string& name, const char* what) {
   if (name.empty() || name.find_first_of(",\"\n\r") != std::string::npos) {
@@ -70,6 +70,8 @@ const char* toString(EpisodeEnd end) {
       return "agent_failed";
     case EpisodeEnd::kStopped:
       return "stopped";
+    case EpisodeEnd::kUnusableView:
+      return "unusable_view";
   }
   return "unknown";
 }

@@ -16,6 +16,9 @@ using Clock = std::chrono::steady_clock;
 void endWithCurrentError(const std::string& what, EpisodeRecord& record) {
   try {
     throw;
+  } catch (const UnusableViewError& error) {
+    record.end = EpisodeEnd::kUnusableView;
+    record.message = "the camera's view at " + what + " could not be used: " + error.what();
   } catch (const EnvironmentUnavailableError& error) {
     record.end = EpisodeEnd::kEnvironmentLost;
     record.message = "lost the environment at " + what + ": " + error.what();

@@ -64,7 +64,7 @@ double checkDepthCoverage(const cv::Mat& depth_m, double near_m, double far_m,
   text << "; a view is used when at least " << percent(min_fraction)
        << " of it has depth in the working range (~min_valid_depth_fraction, ~radius / "
           "~working_range_factor to ~radius * ~working_range_factor)";
-  throw EnvironmentUnavailableError(text.str());
+  throw UnusableViewError(text.str());
 }
 
 CameraEnvironment::CameraEnvironment(const CameraEnvironmentOptions& options, CameraRig& rig,

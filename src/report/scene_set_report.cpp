@@ -76,7 +76,7 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
       said += records[end].success();
       truly += clear;
       agree += records[end].success() == clear;
-      steps += records[end].steps;
+      steps += records[end].countedSteps();  // failures at the limit, as everywhere
     }
     const int n = static_cast<int>(end - first);
     table << "| " << records[first].agent << " | " << n << " | " << said << " | " << truly << " | "

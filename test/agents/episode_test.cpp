@@ -120,9 +120,10 @@ TEST(EpisodeTest, StatisticsCountFailuresAtTheLimitAndSkipCutShortEpisodes) {
               1e-12);
   EXPECT_TRUE(std::isnan(summarizeEpisodes({records[0]}).sd_steps));
   EXPECT_TRUE(std::isnan(summarizeEpisodes({}).mean_steps));
-  for (EpisodeEnd end : {EpisodeEnd::kSuccess, EpisodeEnd::kTruncated, EpisodeEnd::kStepLimit,
-                         EpisodeEnd::kEnvironmentError, EpisodeEnd::kEnvironmentLost,
-                         EpisodeEnd::kAgentFailed, EpisodeEnd::kStopped}) {
+  for (EpisodeEnd end :
+       {EpisodeEnd::kSuccess, EpisodeEnd::kTruncated, EpisodeEnd::kStepLimit,
+        EpisodeEnd::kEnvironmentError, EpisodeEnd::kEnvironmentLost, EpisodeEnd::kAgentFailed,
+        EpisodeEnd::kStopped, EpisodeEnd::kUnusableView}) {
     EXPECT_EQ(parseEpisodeEnd(toString(end)), end);
   }
 }
@@ -130,7 +131,7 @@ TEST(EpisodeTest, StatisticsCountFailuresAtTheLimitAndSkipCutShortEpisodes) {
 // A scripted environment: fails in the way it is told at step `fail_at`.
 class ScriptedEnvironment : public EnvironmentInterface {
  public:
-  enum class Failure { kNone, kLost, kRefused, kBadObservation };
+  enum class Failure { kNone, kLost, kRefused, kBadObservation, kUnusableView };
   Failure failure = Failure::kNone;
   int fail_at = 3;
   int succeed_at = -1;
@@ -145,6 +146,7 @@ class ScriptedEnvironment : public EnvironmentInterface {
     if (step_ + 1 == fail_at) {
       if (failure == Failure::kLost) throw EnvironmentUnavailableError("the node died");
       if (failure == Failure::kRefused) throw InvalidStateError("episode over");
+      if (failure == Failure::kUnusableView) throw UnusableViewError("no valid depth");
       if (failure == Failure::kBadObservation) observation_.rgb.release();
     }
     ++step_;
@@ -196,6 +198,16 @@ TEST(EpisodeRunnerTest, EveryWayAnEpisodeEndsIsRecorded) {
   EXPECT_EQ(record.end, EpisodeEnd::kEnvironmentLost);
   EXPECT_EQ(record.steps, 2);
   EXPECT_NE(record.message.find("the node died"), std::string::npos) << record.message;
+
+  // A camera view that cannot be used ends the episode as a failure the statistics count.
+  environment.failure = ScriptedEnvironment::Failure::kUnusableView;
+  record = runScripted(environment);
+  EXPECT_EQ(record.end, EpisodeEnd::kUnusableView);
+  EXPECT_TRUE(record.completed());
+  EXPECT_FALSE(record.success());
+  EXPECT_EQ(record.countedSteps(), 10);
+  EXPECT_NE(record.message.find("step 3 could not be used: no valid depth"), std::string::npos)
+      << record.message;
 
   environment.failure = ScriptedEnvironment::Failure::kRefused;
   record = runScripted(environment);

@@ -142,9 +142,10 @@ TEST(CameraEnvironment, CropsToTheCentralSquareAndRefusesBlindViews) {
   EXPECT_NEAR(first.info.pose.azimuth_rad, 0.1, 1e-9);
   EXPECT_NEAR(first.info.pose.elevation_rad, 0.2, 1e-9);
 
-  // All depth lost (a covered lens): UNAVAILABLE, never an estimate, the episode as it was.
+  // All depth lost (a covered lens): UNAVAILABLE (an unusable view, which an episode runner
+  // counts as a failure), never an estimate, the episode as it was.
   camera.frame_.depth.setTo(std::numeric_limits<float>::quiet_NaN());
-  EXPECT_THROW(bridge.step({1.0, 0.0}), EnvironmentUnavailableError);
+  EXPECT_THROW(bridge.step({1.0, 0.0}), UnusableViewError);
   EXPECT_EQ(bridge.episodeRule().stepIndex(), 0);
   EXPECT_EQ(bridge.episodeRule().clearViewsInARow(), 0);
   camera.frame_.depth.setTo(4000.0f);  // millimetres sent as metres: out of the working range

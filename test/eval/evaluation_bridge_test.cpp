@@ -55,6 +55,21 @@ TEST(EvaluationThroughTheBridge, RecordsTheBridgesVerdictAndTheTruthWhereEpisode
     EXPECT_EQ(record.steps, 12);
   }
   EXPECT_EQ(truth.size(), 2u);
+  // Views with too little valid depth: each episode fails where it stands (here at its reset)
+  // and the evaluation goes on to the next scene.
+  plan.bridge.min_valid_depth_fraction = 0.99;
+  truth.clear();
+  const std::vector<EpisodeRecord> unusable =
+      runEvaluation(plan, coreAgents(), nullptr, nullptr, &truth);
+  ASSERT_EQ(unusable.size(), 2u);
+  for (const EpisodeRecord& record : unusable) {
+    EXPECT_EQ(record.end, EpisodeEnd::kUnusableView) << record.message;
+    EXPECT_EQ(record.countedSteps(), 12);
+    EXPECT_NE(record.message.find("at reset could not be used"), std::string::npos)
+        << record.message;
+  }
+  EXPECT_EQ(truth.size(), 2u);
+  plan.bridge.min_valid_depth_fraction = 0.001;
   // Directly on the simulator nothing is written there.
   plan.bridge_estimator = nullptr;
   truth.clear();

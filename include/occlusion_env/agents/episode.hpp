@@ -13,7 +13,8 @@
 
 namespace occlusion_env {
 
-/// How an episode ended. The first three are outcomes of the agent; the others cut it short.
+/// How an episode ended. The first three and kUnusableView are outcomes (the statistics count the
+/// failures at the step limit); the others cut it short.
 enum class EpisodeEnd {
   kSuccess,           // the view became unoccluded (the environment terminated the episode)
   kTruncated,         // the environment's own step limit
@@ -22,10 +23,11 @@ enum class EpisodeEnd {
   kEnvironmentLost,   // the environment could not be reached (a remote simulator went away)
   kAgentFailed,       // the agent could not act on an observation (the message says why)
   kStopped,           // the runner was asked to stop (e.g. the node shuts down)
+  kUnusableView,      // a camera's view could not be used (UnusableViewError): a failure
 };
 
 /// "success", "truncated", "step_limit", "environment_error", "environment_lost", "agent_failed",
-/// "stopped".
+/// "stopped", "unusable_view".
 const char* toString(EpisodeEnd end);
 /// The inverse of toString(); throws InvalidArgumentError for any other text.
 EpisodeEnd parseEpisodeEnd(const std::string& text);
@@ -46,10 +48,11 @@ struct EpisodeRecord {
   std::vector<SphericalPose> path;  // the start pose, then one per step
 
   bool success() const { return end == EpisodeEnd::kSuccess; }
-  /// Ran to an outcome of the agent (success or a step limit), not cut short.
+  /// Ran to an outcome (success, a step limit, or a camera view that could not be used), not cut
+  /// short.
   bool completed() const {
     return end == EpisodeEnd::kSuccess || end == EpisodeEnd::kTruncated ||
-           end == EpisodeEnd::kStepLimit;
+           end == EpisodeEnd::kStepLimit || end == EpisodeEnd::kUnusableView;
   }
   /// Steps for the statistics: a failed episode counts as the step limit.
   int countedSteps() const { return success() ? steps : max_steps; }

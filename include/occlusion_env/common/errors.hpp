@@ -48,4 +48,14 @@ class EnvironmentUnavailableError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The camera is there but its view cannot be used: too little valid depth in the working range
+/// (a covered lens, a camera too close, a reflective or empty scene). No estimate is made from
+/// it, so it can never pass for a clear view. The ROS layer answers it UNAVAILABLE, as any
+/// EnvironmentUnavailableError; an episode runner ends the episode on it as a failure
+/// (EpisodeEnd::kUnusableView) and goes on with the next.
+class UnusableViewError : public EnvironmentUnavailableError {
+ public:
+  using EnvironmentUnavailableError::EnvironmentUnavailableError;
+};
+
 }  // namespace occlusion_env

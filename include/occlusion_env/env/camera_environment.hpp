@@ -90,8 +90,8 @@ struct CameraEnvironmentOptions {
 cv::Rect centralSquare(int width, int height);
 
 /// The fraction of `depth_m` (NaN or 0 = no reading) within [near_m, far_m]; throws
-/// EnvironmentUnavailableError saying what the view lacks when it is below `min_fraction` or
-/// nothing is in range.
+/// UnusableViewError (an EnvironmentUnavailableError) saying what the view lacks when it is below
+/// `min_fraction` or nothing is in range.
 double checkDepthCoverage(const cv::Mat& depth_m, double near_m, double far_m, double min_fraction);
 
 class CameraEnvironment : public EnvironmentInterface {
