@@ -1,4 +1,5 @@
-"""Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here."""
+"""Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
+scripts/paired_steps.py on episode CSVs written here."""
 import json
 import os
 import subprocess
@@ -8,6 +9,7 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ROLLOUT_PROGRESS = os.path.join(ROOT, "scripts", "rollout_progress.py")
+PAIRED_STEPS = os.path.join(ROOT, "scripts", "paired_steps.py")
 
 
 def write_rollout(dataset, scene, oracle_steps):
@@ -48,6 +50,59 @@ def test_a_set_without_finished_rollouts_is_refused(tmp_path):
     result = run(tmp_path)
     assert result.returncode != 0
     assert "no finished roll-out" in result.stderr
+
+
+EPISODE_HEADER = ("version,agent,scene_set,scene_seed,start_azimuth_rad,max_steps,steps,success,"
+                  "final_occlusion_px,wall_time_s,end,message,azimuths_rad,elevations_rad\n")
+
+
+def write_episodes(path, agent, steps_by_seed, max_steps=50):
+    """steps_by_seed: {seed: steps, or None for a failure at the limit}."""
+    lines = [EPISODE_HEADER]
+    for seed, steps in steps_by_seed.items():
+        success = steps is not None
+        lines.append(f"2,{agent},s,{seed},0,{max_steps},{steps if success else max_steps},"
+                     f"{int(success)},0,0.1,{'success' if success else 'step_limit'},,,\n")
+    path.write_text("".join(lines))
+    return path
+
+
+def paired(*args):
+    return subprocess.run([sys.executable, PAIRED_STEPS, *map(str, args)],
+                          capture_output=True, text=True)
+
+
+def test_paired_steps_counts_failures_at_the_limit_and_pairs_by_scene(tmp_path):
+    base = write_episodes(tmp_path / "base.csv", "a", {1: 10, 2: 20, 3: 30, 4: 40})
+    # Differences per scene: -2, +30 (a failure counted at 50), -10, -2; mean 4,
+    # sd sqrt(944 / 3) = 17.74, standard error 17.74 / 2 = 8.87.
+    other = write_episodes(tmp_path / "other.csv", "b", {4: 38, 3: 20, 2: None, 1: 8})
+    folder = tmp_path / "out"
+    folder.mkdir()
+    write_episodes(folder / "set_episodes.csv", "oracle", {1: 5, 2: 10, 3: 15, 4: 20})
+    result = paired(base, other, "--reference", folder)
+    assert result.returncode == 0, result.stderr
+    rows = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:-1]]
+            for line in result.stdout.splitlines() if line.startswith("| ") and "/" in line}
+    assert rows[str(base)] == ["4", "4", "25.00", "", "2.000"]
+    assert rows[str(other)] == ["4", "3", "29.00", "+4.00 ± 8.87", "2.320"]
+    assert "reference " + str(folder) + ": 12.50 steps" in result.stdout
+
+
+def test_paired_steps_refuses_different_scenes_and_mixed_agents(tmp_path):
+    base = write_episodes(tmp_path / "base.csv", "a", {1: 10, 2: 20})
+    fewer = write_episodes(tmp_path / "fewer.csv", "b", {1: 10})
+    result = paired(base, fewer)
+    assert result.returncode == 1
+    assert "hold different episodes (1 and 2)" in result.stderr
+    mixed = tmp_path / "mixed.csv"
+    mixed.write_text(base.read_text() + "".join(
+        line.replace(",a,", ",c,") for line in base.read_text().splitlines(True)[1:]))
+    result = paired(mixed, base)
+    assert result.returncode == 1
+    assert "holds several agents (a, c): give --agent" in result.stderr
+    result = paired(mixed, base, "--agent", "a")
+    assert result.returncode == 0, result.stderr
 
 
 if __name__ == "__main__":

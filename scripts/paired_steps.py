@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Compares agents' episodes scene by scene: for each episode CSV (agents/episode.hpp, versions 1
+and 2; or a folder holding one *_episodes.csv, as occlusion_eval --out writes) the mean steps with
+failures counted at the step limit, the successes, and the mean paired difference to the first
+CSV with its standard error (the spread of the per-scene differences / sqrt(n)). Episodes pair
+by scene seed and start azimuth; every CSV must hold the same episodes. With --reference (e.g.
+the oracle's episodes on the same scenes) each mean is also given as a ratio to the reference's.
+
+Usage: paired_steps.py BASE OTHER [OTHER ...] [--agent NAME] [--reference CSV]
+  BASE, OTHER   episode CSVs or occlusion_eval output folders
+  --agent NAME  use this agent's rows (needed when a CSV holds several agents)
+  --reference   a CSV or folder whose mean the ratios divide by (its own --agent: the first agent)
+Prints a Markdown table; exits 1 on unreadable or mismatched input."""
+import argparse
+import csv
+import glob
+import math
+import os
+import sys
+
+
+class InputError(Exception):
+    pass
+
+
+def episode_csv(path):
+    if os.path.isdir(path):
+        found = sorted(glob.glob(os.path.join(path, "*_episodes.csv")))
+        if len(found) != 1:
+            raise InputError(f"{path}: expected one *_episodes.csv, found {len(found)}")
+        return found[0]
+    if not os.path.isfile(path):
+        raise InputError(f"{path}: no such file or folder")
+    return path
+
+
+def counted_steps(path, agent):
+    """{(scene_seed, start_azimuth_rad): (counted steps, success)} of `agent`'s rows."""
+    path = episode_csv(path)
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        raise InputError(f"{path}: no episodes")
+    agents = sorted({row["agent"] for row in rows})
+    if agent is None:
+        if len(agents) > 1:
+            raise InputError(f"{path} holds several agents ({', '.join(agents)}): give --agent")
+        agent = agents[0]
+    episodes = {}
+    for row in rows:
+        if row["agent"] != agent:
+            continue
+        success = row["success"] == "1"
+        steps = int(row["steps"]) if success else int(row["max_steps"])
+        key = (int(row["scene_seed"]), float(row["start_azimuth_rad"]))
+        if key in episodes:
+            raise InputError(f"{path}: scene {key[0]} at azimuth {key[1]} appears twice")
+        episodes[key] = (steps, success)
+    if not episodes:
+        raise InputError(f"{path}: no episodes of agent {agent!r} (it has {', '.join(agents)})")
+    return episodes
+
+
+def mean(values):
+    return sum(values) / len(values)
+
+
+def standard_error(values):
+    if len(values) < 2:
+        return float("nan")
+    m = mean(values)
+    return math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1) / len(values))
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("runs", nargs="+")
+    parser.add_argument("--agent")
+    parser.add_argument("--reference")
+    args = parser.parse_args(argv)
+    if len(args.runs) < 2:
+        parser.error("give a base and at least one other run")
+    try:
+        runs = [(path, counted_steps(path, args.agent)) for path in args.runs]
+        reference = counted_steps(args.reference, None) if args.reference else None
+        keys = sorted(runs[0][1])
+        for path, episodes in runs[1:] + ([(args.reference, reference)] if reference else []):
+            if sorted(episodes) != keys:
+                raise InputError(f"{path} and {args.runs[0]} hold different episodes "
+                                 f"({len(episodes)} and {len(keys)}): pairs need the same scenes")
+    except (InputError, KeyError, ValueError) as error:
+        print(f"paired_steps.py: {error}", file=sys.stderr)
+        return 1
+    base = [runs[0][1][k][0] for k in keys]
+    reference_mean = mean([reference[k][0] for k in keys]) if reference else None
+    header = "| run | episodes | successes | mean steps | against the first |"
+    rule = "|---|---:|---:|---:|---:|"
+    if reference_mean:
+        header += " ratio to the reference |"
+        rule += "---:|"
+    print(header)
+    print(rule)
+    for index, (path, episodes) in enumerate(runs):
+        steps = [episodes[k][0] for k in keys]
+        successes = sum(episodes[k][1] for k in keys)
+        if index == 0:
+            against = ""
+        else:
+            differences = [s - b for s, b in zip(steps, base)]
+            against = f"{mean(differences):+.2f} ± {standard_error(differences):.2f}"
+        line = f"| {path} | {len(keys)} | {successes} | {mean(steps):.2f} | {against} |"
+        if reference_mean:
+            line += f" {mean(steps) / reference_mean:.3f} |"
+        print(line)
+    if reference_mean:
+        print(f"\nreference {args.reference}: {reference_mean:.2f} steps")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
