@@ -38,8 +38,10 @@ std::string ProgressBar::render(int done, double elapsed_s, const std::string& d
   const int filled = static_cast<int>(fraction * kBarWidth);
   std::string bar(filled, '#');
   bar.resize(kBarWidth, '.');
-  // The ETA assumes the remaining work goes at the average rate so far.
-  const std::string eta = done > 0 ? formatDuration(elapsed_s * (total_ - done) / done) : "?";
+  // The ETA assumes the remaining work goes at this run's average rate so far.
+  const int done_here = done - resumed_;
+  const std::string eta =
+      done_here > 0 ? formatDuration(elapsed_s * (total_ - done) / done_here) : "?";
   char head[96];
   std::snprintf(head, sizeof(head), " %3d%% %d/%d elapsed %s ETA %s",
                 static_cast<int>(100 * fraction), done, total_, formatDuration(elapsed_s).c_str(),

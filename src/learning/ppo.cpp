@@ -264,6 +264,7 @@ class PpoTrainer {
 
     const auto start = Clock::now();
     const std::int64_t start_steps = progress_.env_steps;
+    if (callbacks_.on_start) callbacks_.on_start(start_steps);
     while (progress_.env_steps < options_.total_steps) {
       const torch::Tensor std = actionStd();
       ended_.clear();

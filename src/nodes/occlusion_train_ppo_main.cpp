@@ -224,6 +224,9 @@ int train(const CommandLine& cl, int argc, char** argv) {
             << cl.run_dir << "\n";
   eval::ProgressBar bar(std::cerr, static_cast<int>(cl.ppo.total_steps), "ppo");
   learning::PpoCallbacks callbacks;
+  callbacks.on_start = [&bar](std::int64_t resumed_steps) {
+    bar.resumeFrom(static_cast<int>(resumed_steps));  // a resumed run's ETA from its own rate
+  };
   callbacks.on_update = [&](const learning::PpoUpdate& u) {
     std::ostringstream text;
     text << std::fixed << std::setprecision(0) << u.steps_per_second << " steps/s, "

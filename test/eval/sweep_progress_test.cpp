@@ -145,6 +145,11 @@ TEST(Progress, ShowsFractionAndEta) {
   EXPECT_NE(line.find(" 25% 10/40"), std::string::npos) << line;
   EXPECT_NE(line.find("elapsed 30s ETA 1m30s"), std::string::npos) << line;
   EXPECT_NE(line.find("random"), std::string::npos);
+  // A run resumed at 30 of 40 that did 5 more in 10 s: 10 s to go, not the 1 s that counting
+  // the resumed work would say.
+  bar.resumeFrom(30);
+  const std::string resumed = bar.render(35, 10.0, "");
+  EXPECT_NE(resumed.find(" 87% 35/40 elapsed 10s ETA 10s"), std::string::npos) << resumed;
   EXPECT_EQ(formatDuration(3725.0), "1h02m");
   EXPECT_EQ(formatDuration(-1.0), "?");
 }

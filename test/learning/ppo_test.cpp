@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "learning/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
@@ -81,6 +82,8 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
 
   int updates_seen = 0, episodes_seen = 0;
   PpoCallbacks count;
+  std::vector<std::int64_t> starts;  // on_start's steps done already, per call of trainPpo
+  count.on_start = [&starts](std::int64_t env_steps) { starts.push_back(env_steps); };
   count.on_update = [&](const PpoUpdate& u) {
     ++updates_seen;
     EXPECT_EQ(u.env_steps, 16 * u.update);
@@ -97,6 +100,7 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   const fs::path run = dir / "run";
   PolicyNetwork trained = trainPpo(options, 2, inProcess(), {}, run.string(), count);
   EXPECT_EQ(updates_seen, 3);
+  EXPECT_EQ(starts, std::vector<std::int64_t>{0}) << "a new run";
   EXPECT_GE(episodes_seen, 2);
   EXPECT_EQ(csvRows(run / "updates.csv").size(), 3u);
   EXPECT_EQ(csvRows(run / "training_episodes.csv").size(), static_cast<std::size_t>(episodes_seen));
@@ -118,12 +122,15 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   EXPECT_THROW(trainPpo(options, 2, inProcess(), {}, interrupted.string(), interrupt),
                std::runtime_error);
   int resumed_updates = 0;
+  std::int64_t resumed_from = -1;
   PpoCallbacks resumed;
+  resumed.on_start = [&](std::int64_t env_steps) { resumed_from = env_steps; };
   resumed.on_update = [&](const PpoUpdate& u) {
     EXPECT_EQ(u.update, 2 + resumed_updates);
     ++resumed_updates;
   };
   trainPpo(options, 2, inProcess(), {}, interrupted.string(), resumed);
+  EXPECT_EQ(resumed_from, 16) << "the steps of the checkpoint's one update";
   EXPECT_EQ(resumed_updates, 2);
   const auto rows = csvRows(interrupted / "updates.csv");
   ASSERT_EQ(rows.size(), 3u);
@@ -135,6 +142,7 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   updates_seen = 0;
   trainPpo(longer, 2, inProcess(), {}, run.string(), count);
   EXPECT_EQ(updates_seen, 2);
+  EXPECT_EQ(starts.back(), 48) << "the finished run's three updates";
   EXPECT_EQ(csvRows(run / "updates.csv").size(), 5u);
   PpoOptions other = options;
   other.clip_epsilon = 0.3;

@@ -17,6 +17,9 @@ class ProgressBar {
   ProgressBar(std::ostream& out, int total, std::string label);
   /// Sets the completed count and redraws, with `detail` (e.g. the current agent) at the end.
   void update(int done, const std::string& detail = "");
+  /// Work that was done before this bar started (a resumed run): it counts in the fraction, not
+  /// in the rate behind the ETA. Call before the first update().
+  void resumeFrom(int done) { resumed_ = done; }
   /// Ends the line.
   void finish();
   /// The line update() would draw after `elapsed_s` seconds (for tests).
@@ -27,6 +30,7 @@ class ProgressBar {
   int total_;
   std::string label_;
   std::chrono::steady_clock::time_point start_;
+  int resumed_ = 0;  // done before start_
   bool finished_ = false;
 };
 

@@ -113,6 +113,8 @@ struct PpoUpdate {
 };
 
 struct PpoCallbacks {
+  /// Before the first update: the environment steps done already (a resumed run; 0 when new).
+  std::function<void(std::int64_t env_steps)> on_start;
   std::function<void(const PpoEpisode&)> on_episode;
   std::function<void(const PpoUpdate&)> on_update;
 };
