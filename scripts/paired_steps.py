@@ -17,6 +17,7 @@ import glob
 import math
 import os
 import sys
+from statistics import mean, stdev
 
 
 class InputError(Exception):
@@ -61,15 +62,11 @@ def counted_steps(path, agent):
     return episodes
 
 
-def mean(values):
-    return sum(values) / len(values)
-
-
 def standard_error(values):
+    """Of the mean: the sample standard deviation / sqrt(n)."""
     if len(values) < 2:
         return float("nan")
-    m = mean(values)
-    return math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1) / len(values))
+    return stdev(values) / math.sqrt(len(values))
 
 
 def main(argv):
