@@ -111,6 +111,7 @@ BopDataset::BopDataset(const std::string& dir) : dir_(dir) {
         frame.validation = scene.at("split").get<std::string>() == "val";
         const int image_id = std::stoi(key);
         frame.labels = labelsFromJson(value, image_id);
+        frame.scene_folder = folder;
         frame.rgb_path = folder + "/rgb/" + idName(image_id) + ".png";
         frame.depth_path = folder + "/depth/" + idName(image_id) + ".png";
         frame.occlusion_path = folder + "/occlusion/" + idName(image_id) + ".png";
@@ -146,6 +147,28 @@ cv::Mat BopDataset::readDepthMeters(const Frame& frame) const {
 
 cv::Mat BopDataset::readOcclusionMask(const Frame& frame) const {
   return readImage(frame.occlusion_path, cv::IMREAD_GRAYSCALE, CV_8UC1);
+}
+
+std::vector<cv::Mat> BopDataset::readUnoccludedObjectMasks(const Frame& frame,
+                                                           int min_pixels) const {
+  const std::string info_path = frame.scene_folder + "/scene_gt_info.json";
+  const nlohmann::json info = readJson(info_path);
+  std::vector<cv::Mat> masks;
+  try {
+    const nlohmann::json& objects = info.at(std::to_string(frame.labels.image_id));
+    for (std::size_t k = 0; k < objects.size(); ++k) {
+      const int all = objects[k].at("px_count_all").get<int>();
+      const int visible = objects[k].at("px_count_visib").get<int>();
+      if (visible < min_pixels || visible != all) continue;
+      masks.push_back(readImage(frame.scene_folder + "/mask_visib/" +
+                                    idName(frame.labels.image_id) + "_" +
+                                    idName(static_cast<int>(k)) + ".png",
+                                cv::IMREAD_GRAYSCALE, CV_8UC1));
+    }
+  } catch (const nlohmann::json::exception& error) {
+    throw InvalidArgumentError("dataset: " + info_path + " is malformed: " + error.what());
+  }
+  return masks;
 }
 
 }  // namespace dataset

@@ -4,8 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <random>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -14,6 +17,7 @@
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/negative_frames.hpp"
 #include "occlusion_env/learning/network_input.hpp"
 
 namespace occlusion_env {
@@ -75,6 +79,48 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
       samples.escape_valid[i] = 1.0;
     }
   }
+}
+
+// Writes `count` frames with nothing to occlude into `samples` from row `first` on: even ones a
+// bare surface, odd ones an object nothing hides, alone, from a training frame drawn at random
+// (a bare surface when 100 draws find none). Empty masks, no direction labels.
+void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& datasets,
+                   const std::vector<std::vector<const dataset::Frame*>>& train,
+                   const InputFormat& format, int64_t count, std::uint64_t seed, Samples& samples,
+                   int64_t first) {
+  if (count == 0) return;
+  std::vector<std::pair<std::size_t, const dataset::Frame*>> frames;
+  for (std::size_t d = 0; d < train.size(); ++d) {
+    for (const dataset::Frame* frame : train[d]) frames.emplace_back(d, frame);
+  }
+  std::mt19937_64 random(seed * 7919ull + 17ull);
+  std::uniform_int_distribution<std::size_t> pick(0, std::max<std::size_t>(1, frames.size()) - 1);
+  InputScratch scratch;
+  const torch::Tensor input = torch::empty({4, format.size, format.size});
+  const int surface_px =
+      frames.empty() ? 128 : datasets[frames[0].first]->readRgb(*frames[0].second).cols;
+  int64_t alone = 0;
+  for (int64_t k = 0; k < count; ++k) {
+    const int64_t row = first + k;
+    std::optional<RgbdFrame> frame;
+    for (int attempt = 0; k % 2 == 1 && !frames.empty() && !frame && attempt < 100; ++attempt) {
+      const auto& [d, drawn] = frames[pick(random)];
+      const dataset::BopDataset& data = *datasets[d];
+      const RgbdFrame whole{data.readRgb(*drawn), data.readDepthMeters(*drawn)};
+      // At least 1 % of the image: an object big enough to show what it looks like alone.
+      const int min_pixels = std::max(1, static_cast<int>(0.01 * whole.rgb.total()));
+      const std::vector<cv::Mat> masks = data.readUnoccludedObjectMasks(*drawn, min_pixels);
+      if (masks.empty()) continue;
+      frame = objectAloneFrame(whole, masks[random() % masks.size()]);
+      ++alone;
+    }
+    if (!frame) frame = bareSurfaceFrame(random(), surface_px);
+    writeNetworkInput(frame->rgb, frame->depth, format, scratch, input.data_ptr<float>());
+    samples.inputs[row].copy_(input);
+    samples.masks[row].zero_();
+  }
+  std::cerr << "training data: " << count << " frames with nothing to occlude added ("
+            << count - alone << " bare surfaces, " << alone << " objects alone)\n";
 }
 
 torch::Tensor maskedMean(const torch::Tensor& values, const torch::Tensor& valid) {
@@ -191,7 +237,10 @@ TrainingData loadTrainingData(const std::string& dir, const InputFormat& format,
 }
 
 TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
-                              int max_scenes) {
+                              int max_scenes, double negatives, std::uint64_t seed) {
+  if (!(negatives >= 0.0 && negatives <= 1.0)) {
+    throw InvalidArgumentError("negatives must be a fraction in [0, 1]");
+  }
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
   std::vector<std::vector<const dataset::Frame*>> train(dirs.size()), validation(dirs.size());
@@ -233,7 +282,9 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
   out.dataset_manifest = datasets.front()->manifest();
   out.dataset_dir = dirs.front();
   out.extra_dataset_dirs.assign(dirs.begin() + 1, dirs.end());
-  out.train = emptySamples(train_count, format.size);
+  const auto negative_count =
+      static_cast<int64_t>(std::llround(negatives * static_cast<double>(train_count)));
+  out.train = emptySamples(train_count + negative_count, format.size);
   out.validation = emptySamples(validation_count, format.size);
   int64_t train_row = 0, validation_row = 0;
   for (std::size_t d = 0; d < dirs.size(); ++d) {
@@ -242,6 +293,7 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
     train_row += static_cast<int64_t>(train[d].size());
     validation_row += static_cast<int64_t>(validation[d].size());
   }
+  fillNegatives(datasets, train, format, negative_count, seed, out.train, train_row);
   return out;
 }
 
@@ -338,6 +390,11 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                OptionSpec("with augment: each frame moved by up to this fraction of its size in "
                           "x and y, labels kept, the border the void's (0: no moves)")
                    .range(0, 0.5))
+          .add("negatives", &O::negatives,
+               OptionSpec("add this fraction of the training frames' count as frames with "
+                          "nothing to occlude (empty mask, no direction labels): half bare "
+                          "floors and walls, half an object nothing hides, alone (0: none)")
+                   .range(0, 1))
           .add("init_from", &O::init_from,
                OptionSpec("start from this model's weights (a best.pt of an earlier run of the "
                           "same network) instead of random ones: a new cosine schedule and a "
@@ -362,6 +419,7 @@ nlohmann::json TrainingOptions::toJson() const {
   // Only when set, so that runs from random weights keep the identity they always had.
   if (init_from.empty()) json.erase("init_from");
   if (shift == 0.0) json.erase("shift");
+  if (negatives == 0.0) json.erase("negatives");
   if (network.escape_bins == 0) json.erase("escape_bin_concentration");  // nothing it weighs
   json["network"] = network.toJson();
   return json;
@@ -435,11 +493,13 @@ namespace {
 nlohmann::json initialModelManifest(const TrainingOptions& options) {
   if (options.init_from.empty()) return nlohmann::json();
   nlohmann::json init_manifest = readManifest(options.init_from);
-  // The same weights' shapes: depth_gaps may differ (a network retrained on another input), and
-  // escape_bins (the run adds or replaces that head, loadInitialWeights).
+  // The same weights' shapes: depth_gaps and input_size may differ (a network retrained on
+  // another input; the heads pool globally, so no weight depends on the size), and escape_bins
+  // (the run adds or replaces that head, loadInitialWeights).
   const auto architecture = [](const NetworkConfig& network) {
     nlohmann::json json = network.toJson();
     json.erase("depth_gaps");
+    json.erase("input_size");
     json.erase("escape_bins");
     return json;
   };

@@ -14,6 +14,7 @@
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
+#include "occlusion_env/learning/negative_frames.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
 #include "occlusion_env/learning/training.hpp"
 
@@ -166,6 +167,76 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   fs::remove_all(data_dir);
 }
 
+// Bare surfaces: drawn from the seed alone, depth in range where anything is seen and black where
+// nothing is; a frame of an object alone keeps its pixels only.
+TEST(LearningTest, NegativeFramesHoldNothingToOcclude) {
+  const RgbdFrame first = bareSurfaceFrame(3, 48), again = bareSurfaceFrame(3, 48);
+  EXPECT_EQ(cv::norm(first.rgb, again.rgb, cv::NORM_INF), 0.0) << "the same seed, the same frame";
+  EXPECT_GT(cv::norm(first.rgb, bareSurfaceFrame(4, 48).rgb, cv::NORM_L1), 0.0);
+  int seen_frames = 0;
+  for (std::uint64_t seed = 0; seed < 40; ++seed) {
+    const RgbdFrame frame = bareSurfaceFrame(seed, 48);
+    ASSERT_EQ(frame.rgb.size(), cv::Size(48, 48));
+    ASSERT_EQ(frame.depth.type(), CV_32FC1);
+    int seen = 0;
+    for (int row = 0; row < 48; ++row) {
+      for (int column = 0; column < 48; ++column) {
+        const float depth = frame.depth.at<float>(row, column);
+        if (std::isnan(depth)) {
+          EXPECT_EQ(frame.rgb.at<cv::Vec3b>(row, column), cv::Vec3b(0, 0, 0));
+          continue;
+        }
+        EXPECT_GT(depth, 0.0f);
+        EXPECT_LT(depth, kFarDepthM * 1.2);  // the depth noise may carry a pixel a little beyond
+        ++seen;
+      }
+    }
+    if (seen > 48 * 48 / 2) ++seen_frames;
+  }
+  EXPECT_GE(seen_frames, 20) << "most frames show mostly surface";
+
+  RgbdFrame scene{cv::Mat(8, 8, CV_8UC3, cv::Scalar(10, 20, 30)), cv::Mat(8, 8, CV_32FC1, 2.0f)};
+  cv::Mat mask = cv::Mat::zeros(8, 8, CV_8UC1);
+  mask(cv::Rect(2, 2, 3, 3)) = 255;
+  const RgbdFrame alone = objectAloneFrame(scene, mask);
+  EXPECT_EQ(cv::countNonZero(alone.depth == 2.0f), 9);
+  int missing = 0;
+  for (int k = 0; k < 64; ++k) missing += std::isnan(alone.depth.at<float>(k / 8, k % 8)) ? 1 : 0;
+  EXPECT_EQ(missing, 64 - 9) << "NaN elsewhere";
+  EXPECT_EQ(alone.rgb.at<cv::Vec3b>(0, 0), cv::Vec3b(0, 0, 0));
+  EXPECT_EQ(alone.rgb.at<cv::Vec3b>(3, 3), cv::Vec3b(10, 20, 30));
+  EXPECT_THROW(objectAloneFrame(scene, cv::Mat::zeros(4, 4, CV_8UC1)), InvalidArgumentError);
+}
+
+// Negatives are appended to the training frames only, with empty masks and no direction labels,
+// the same for the same seed; objects alone come from frames of the data.
+TEST(LearningTest, NegativesAreAddedTrainingFramesWithEmptyMasks) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_negatives");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData plain = loadTrainingData(data_dir.string(), 32);
+  const TrainingData with = loadTrainingData({data_dir.string()}, 32, 0, 0.5, 7);
+  const int64_t n = plain.train.size(), added = (n + 1) / 2;
+  ASSERT_EQ(with.train.size(), n + added);
+  EXPECT_EQ(with.validation.size(), plain.validation.size());
+  EXPECT_TRUE(torch::equal(with.train.inputs.slice(0, 0, n), plain.train.inputs));
+  EXPECT_EQ(with.train.masks.slice(0, n).sum().item<int64_t>(), 0) << "nothing to occlude";
+  EXPECT_EQ(with.train.escape_valid.slice(0, n).sum().item<float>(), 0.0f);
+  EXPECT_EQ(with.train.gradient_valid.slice(0, n).sum().item<float>(), 0.0f);
+  const TrainingData again = loadTrainingData({data_dir.string()}, 32, 0, 0.5, 7);
+  EXPECT_TRUE(torch::equal(again.train.inputs, with.train.inputs));
+  // An object alone: black (-2 after normalisation) around it, something in front of the void.
+  const torch::Tensor alone = with.train.inputs[n + 1].to(torch::kFloat);
+  EXPECT_GT((alone.slice(0, 0, 3) == -2.0).sum().item<int64_t>(), 0);
+  EXPECT_GT((alone.slice(0, 0, 3) > -2.0).sum().item<int64_t>(), 0);
+  EXPECT_THROW(loadTrainingData({data_dir.string()}, 32, 0, 1.5, 7), InvalidArgumentError);
+  // A run records them (its identity: resuming with another fraction is another run).
+  TrainingOptions options;
+  EXPECT_FALSE(options.toJson().contains("negatives")) << "runs without them keep their identity";
+  options.negatives = 0.2;
+  EXPECT_DOUBLE_EQ(options.toJson().at("negatives").get<double>(), 0.2);
+  fs::remove_all(data_dir);
+}
+
 // A second dataset without oracle labels and without validation scenes adds training frames only;
 // a dataset repeating a scene seed is refused; the cross-entropy term trains too.
 TEST(LearningTest, SeveralDatasetsAddTrainingFramesOnly) {
@@ -272,7 +343,13 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   TrainingOptions missing = warm;
   missing.init_from = (source_dir / "no_such.pt").string();
   EXPECT_THROW(train(data, missing, refused_dir.string(), {}), InvalidArgumentError);
-  for (const fs::path& dir : {data_dir, source_dir, fresh_dir, warm_dir, refused_dir}) {
+  // A model of another input size starts a run at this one: no weight depends on the size.
+  TrainingOptions larger = warm;
+  larger.network.input_size = 64;
+  const fs::path larger_dir = temporaryDir("occlusion_env_learning_warm_larger");
+  train(loadTrainingData(data_dir.string(), 64), larger, larger_dir.string(), {});
+  EXPECT_LT(largestParameterDifference(source, (larger_dir / "best.pt").string()), 1e-5);
+  for (const fs::path& dir : {data_dir, source_dir, fresh_dir, warm_dir, refused_dir, larger_dir}) {
     fs::remove_all(dir);
   }
 }

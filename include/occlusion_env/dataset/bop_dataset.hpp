@@ -51,6 +51,7 @@ struct Frame {
   std::uint64_t scene_seed = 0;
   bool validation = false;  // the scene is in the validation split
   FrameLabels labels;
+  std::string scene_folder;  // "<dir>/train/<scene:06d>"
   std::string rgb_path, depth_path, occlusion_path;
 };
 
@@ -70,6 +71,10 @@ class BopDataset {
   cv::Mat readDepthMeters(const Frame& frame) const;
   /// CV_8UC1, 255 where occluded.
   cv::Mat readOcclusionMask(const Frame& frame) const;
+  /// The visible masks (CV_8UC1, 255 inside) of the frame's objects that nothing hides (their
+  /// whole silhouette is visible: px_count_visib == px_count_all) and that cover at least
+  /// `min_pixels`, in object order.
+  std::vector<cv::Mat> readUnoccludedObjectMasks(const Frame& frame, int min_pixels) const;
 
  private:
   std::string dir_;

@@ -47,9 +47,13 @@ TrainingData loadTrainingData(const std::string& dir, const InputFormat& format,
 /// The same for several datasets (dirs[0] first), each split by its own manifest: e.g. a
 /// dataset with oracle labels and a larger one without them made with `--validation 0`, which
 /// adds training frames and leaves the validation frames as they were. Also refuses a scene seed
-/// that is in two of them. `max_scenes` applies to each.
+/// that is in two of them. `max_scenes` applies to each. `negatives` > 0 appends that fraction of
+/// the training frames' count as frames with nothing to occlude (learning/negative_frames.hpp):
+/// every other one a bare surface, the others one object alone from a training frame drawn at
+/// random; their mask is empty and they have no direction labels. `seed` draws them. The
+/// validation frames are the datasets' alone.
 TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
-                              int max_scenes = 0);
+                              int max_scenes = 0, double negatives = 0.0, std::uint64_t seed = 1);
 
 /// Every frame (of training and validation scenes alike) of datasets that a model was not trained
 /// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
@@ -77,6 +81,9 @@ struct TrainingOptions {
   // pixels), labels unchanged, the uncovered border the void's (black, no depth): an estimate that
   // follows the content, not where occlusion usually is in a centred scene. 0: no moves.
   double shift = 0.0;
+  // Frames with nothing to occlude added to the training frames, as a fraction of their count
+  // (loadTrainingData's `negatives`; read by the tool that loads the data). 0: none.
+  double negatives = 0.0;
   std::uint64_t seed = 1;
   int threads = 0;  // libtorch threads; 0 = the machine's cores
   // A model file (saveModel) of the same network to start from instead of random weights: the
