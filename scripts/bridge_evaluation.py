@@ -54,7 +54,12 @@ def main():
     parser.add_argument("--world", default="void", help="void | room | random")
     parser.add_argument("--depth-sensor", default="ideal",
                         help="ideal | kinect_v1 | realsense_d435 | azure_kinect | random")
-    parser.add_argument("--model", default="", help="the network ('': the shipped default)")
+    parser.add_argument("--model", default="",
+                        help="the bridge's network, whose estimate ends an episode ('': the "
+                        "shipped default)")
+    parser.add_argument("--agent-model", default="",
+                        help="the agent's network ('': the shipped default for an agent behind a "
+                        "camera)")
     parser.add_argument("--oracle-csv",
                         default=os.path.join(ROOT, "doc/evaluation/test_sweethome3d_episodes.csv"),
                         help="occlusion_eval episodes with the oracle's rows on the same seeds")
@@ -84,6 +89,8 @@ def main():
                "start_azimuth:=%r" % float(scene_set.get("start_azimuth", 0.0))]
     if args.model:
         command.append("model:=" + os.path.abspath(args.model))
+    if args.agent_model:
+        command.append("agent_model:=" + os.path.abspath(args.agent_model))
     log = open(os.path.join(args.out, "roslaunch.log"), "w")
     print("bridge_evaluation:", " ".join(command), file=sys.stderr, flush=True)
     launch = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
@@ -149,6 +156,8 @@ def main():
                "depth_sensor": args.depth_sensor,
                "model": os.path.relpath(os.path.abspath(args.model), ROOT) if args.model
                else "shipped default",
+               "agent_model": os.path.relpath(os.path.abspath(args.agent_model), ROOT)
+               if args.agent_model else "shipped default",
                "truly_clear": clear, "verdict_agrees": agree,
                "mean_steps": statistics.mean(steps), "oracle_mean_steps": statistics.mean(oracle),
                "steps_over_oracle": statistics.mean(steps) / statistics.mean(oracle)}

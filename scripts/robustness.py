@@ -143,6 +143,23 @@ def plot(results, models, path):
     fig.savefig(path, dpi=110)
 
 
+def agent_network(summary):
+    """The agent's network of a bridge summary; before --agent-model the agent ran the bridge's."""
+    if "agent_model" in summary:
+        return summary["agent_model"]
+    if summary["model"] == "shipped default":
+        return "models/multitask_unet64_camera.pt"
+    return summary["model"]
+
+
+def networks(summary):
+    """The model column: one network, or the agent's and the bridge's when they differ."""
+    agent = agent_network(summary)
+    if agent == summary["model"]:
+        return agent
+    return "agent %s, bridge %s" % (agent, summary["model"])
+
+
 def bridge_rows(paths):
     """Rows of scripts/bridge_evaluation.py summaries (OUT/bridge_summary.json)."""
     lines = ["| model | scenes | stand-in world, sensor | truly clear at the end | the bridge's "
@@ -153,7 +170,7 @@ def bridge_rows(paths):
             b = json.load(f)
         n = b["episodes"]
         lines.append("| %s | %s | %s, %s | %d / %d (%.0f %%) | %d / %d (%.0f %%) | %.2f | %.2f | %.2f |"
-                     % (b["model"], os.path.basename(b["scenes"]), b["world"],
+                     % (networks(b), os.path.basename(b["scenes"]), b["world"],
                         b["depth_sensor"], b["truly_clear"], n, 100.0 * b["truly_clear"] / n,
                         b["verdict_agrees"], n, 100.0 * b["verdict_agrees"] / n, b["mean_steps"],
                         b["oracle_mean_steps"], b["steps_over_oracle"]))
@@ -213,6 +230,9 @@ def bridge_commands(paths):
         with open(os.path.join(path, "bridge_summary.json")) as f:
             b = json.load(f)
         model = "" if b["model"] == "shipped default" else " --model " + b["model"]
+        agent = agent_network(b)
+        if agent != "shipped default":
+            model += " --agent-model " + agent
         commands.append("scripts/bridge_evaluation.py --world %s --depth-sensor %s%s --out %s"
                         % (b["world"], b["depth_sensor"], model, os.path.relpath(path, ROOT)))
     return commands

@@ -1,5 +1,5 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
-scripts/paired_steps.py on episode CSVs written here."""
+scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries."""
 import json
 import os
 import subprocess
@@ -107,3 +107,41 @@ def test_paired_steps_refuses_different_scenes_and_mixed_agents(tmp_path):
 
 if __name__ == "__main__":
     sys.exit(pytest.main([__file__]))
+
+
+def load_robustness():
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "robustness", os.path.join(ROOT, "scripts", "robustness.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def write_bridge_summary(folder, **fields):
+    folder.mkdir()
+    summary = {"scenes": "config/scenes/test_sweethome3d.yaml", "episodes": 50, "world": "room",
+               "depth_sensor": "realsense_d435", "truly_clear": 49, "verdict_agrees": 47,
+               "mean_steps": 19.26, "oracle_mean_steps": 7.66, "steps_over_oracle": 2.51}
+    summary.update(fields)
+    (folder / "bridge_summary.json").write_text(json.dumps(summary))
+    return str(folder)
+
+
+def test_bridge_rows_name_both_networks_and_rerun_each_summary(tmp_path):
+    robustness = load_robustness()
+    # Before --agent-model the agent ran the bridge's network: its command says so.
+    old = write_bridge_summary(tmp_path / "old", model="runs/robust64/best.pt")
+    split = write_bridge_summary(tmp_path / "split", model="shipped default",
+                                 agent_model="runs/agent/best.pt")
+    same = write_bridge_summary(tmp_path / "same", model="shipped default",
+                                agent_model="shipped default")
+    commands = robustness.bridge_commands([old, split, same])
+    assert "--model runs/robust64/best.pt --agent-model runs/robust64/best.pt" in commands[0]
+    assert "--model" not in commands[1].replace("--agent-model", "")
+    assert "--agent-model runs/agent/best.pt" in commands[1]
+    assert "--model" not in commands[2] and "--agent-model" not in commands[2]
+    rows = robustness.bridge_rows([old, split]).splitlines()
+    assert rows[2].startswith("| runs/robust64/best.pt |")
+    assert rows[3].startswith("| agent runs/agent/best.pt, bridge shipped default |")
+    assert "49 / 50 (98 %)" in rows[3]
