@@ -32,7 +32,8 @@ using occlusion_env::OptionTable;
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
   std::string agent = "predicted_escape";
-  std::string model;  // the shipped network for depth cameras unless given
+  std::string model;        // the shipped network for depth cameras unless given
+  std::string agent_model;  // "": the estimate's network
   int scenes = 50;
   long long first_seed = 900000;
   std::vector<double> thresholds = {0, 16, 64, 256};
@@ -53,7 +54,11 @@ const OptionTable<Arguments>& argumentTable() {
       OptionTable<Arguments>()
           .add("agent", &Arguments::agent, OptionSpec("the agent that moves"))
           .add("model", &Arguments::model,
-               OptionSpec("the network for the estimate, and the agent's model if it needs one"))
+               OptionSpec("the network for the estimate, and the agent's model if it needs one "
+                          "and --agent-model is not given"))
+          .add("agent_model", &Arguments::agent_model,
+               OptionSpec("the agent's network, if another than the estimate's (as the camera "
+                          "bridge's and the agent node's in bridge_evaluation.launch)"))
           .add("scenes", &Arguments::scenes, OptionSpec("number of scenes").range(1, 100000))
           .add("first_seed", &Arguments::first_seed,
                OptionSpec("the first seed (validation range 900,000-999,999)").range(0, 999999))
@@ -116,7 +121,8 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
   EnvironmentOptions options = args.options;
   options.width = options.height = args.size;
   Environment environment(options);
-  const std::unique_ptr<Agent> agent = registry.make(args.agent, {environment, args.model});
+  const std::unique_ptr<Agent> agent = registry.make(
+      args.agent, {environment, args.agent_model.empty() ? args.model : args.agent_model});
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
   std::vector<learning::OcclusionEstimator> estimators;
   for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
@@ -176,6 +182,8 @@ void printHeader(const Arguments& args, const std::vector<std::vector<View>>& vi
             << (args.millimetre_depth ? ", depth in millimetres" : "") << "), " << max_steps
             << " steps at most\n"
             << "estimate: " << args.model << "\n"
+            << "agent's network: " << (args.agent_model.empty() ? args.model : args.agent_model)
+            << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
             << " scenes, after " << std::fixed << std::setprecision(1)
             << steps_to_clear / args.scenes << std::defaultfloat
@@ -236,7 +244,8 @@ int main(int argc, char** argv) {
       "views. Seeds must lie below 1,000,000:\nthresholds are chosen on validation scenes, never "
       "on test scenes.",
       "occlusion_bridge_calibration");
-  tools::addOptionFlags(app, argumentTable(), args, {"agent", "model", "scenes", "first_seed"});
+  tools::addOptionFlags(app, argumentTable(), args,
+                        {"agent", "model", "agent_model", "scenes", "first_seed"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options, {"max_steps"});
   tools::addOptionFlags(app, argumentTable(), args,
                         {"thresholds", "probabilities", "confirm_views", "millimetre_depth"});
