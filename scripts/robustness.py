@@ -153,11 +153,17 @@ def agent_network(summary):
 
 
 def networks(summary):
-    """The model column: one network, or the agent's and the bridge's when they differ."""
+    """The model column: one network, or the agent's and the bridge's when they differ (the
+    launch files' defaults by name)."""
+    bridge = summary["model"]
+    if bridge == "shipped default":
+        bridge = "models/multitask_unet64_camera.pt"
     agent = agent_network(summary)
-    if agent == summary["model"]:
+    if agent == "shipped default":
+        agent = "models/multitask_unet64_camera_agent.pt"
+    if agent == bridge:
         return agent
-    return "agent %s, bridge %s" % (agent, summary["model"])
+    return "agent %s, bridge %s" % (agent, bridge)
 
 
 def bridge_rows(paths):

@@ -141,7 +141,10 @@ def test_bridge_rows_name_both_networks_and_rerun_each_summary(tmp_path):
     assert "--model" not in commands[1].replace("--agent-model", "")
     assert "--agent-model runs/agent/best.pt" in commands[1]
     assert "--model" not in commands[2] and "--agent-model" not in commands[2]
-    rows = robustness.bridge_rows([old, split]).splitlines()
+    rows = robustness.bridge_rows([old, split, same]).splitlines()
     assert rows[2].startswith("| runs/robust64/best.pt |")
-    assert rows[3].startswith("| agent runs/agent/best.pt, bridge shipped default |")
+    assert rows[3].startswith(
+        "| agent runs/agent/best.pt, bridge models/multitask_unet64_camera.pt |")
     assert "49 / 50 (98 %)" in rows[3]
+    assert rows[4].startswith("| agent models/multitask_unet64_camera_agent.pt, "
+                              "bridge models/multitask_unet64_camera.pt |")
