@@ -24,14 +24,15 @@ Eigen::Vector3f surfaceColor(std::mt19937_64& random) {
 
 }  // namespace
 
-RgbdFrame bareSurfaceFrame(std::uint64_t seed, int size_px) {
-  if (size_px < 1) throw InvalidArgumentError("bareSurfaceFrame: size must be positive");
+CameraFrame bareSurfaceFrame(std::uint64_t seed, int size_px) {
   std::mt19937_64 random(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const auto uniform = [&](double low, double high) { return low + (high - low) * unit(random); };
 
-  const double fov_rad = uniform(50.0, 90.0) * M_PI / 180.0;
-  const double focal_px = size_px / (2.0 * std::tan(fov_rad / 2.0));
+  CameraFrame frame;
+  frame.intrinsics =
+      CameraIntrinsics::fromFieldOfView(size_px, size_px, uniform(50.0, 90.0) * M_PI / 180.0);
+  const CameraIntrinsics& k = frame.intrinsics;
   const double height_m = uniform(0.4, 2.0);
   const double pitch_rad = uniform(0.0, 1.3);
   const double kind = unit(random);  // floor only, wall only, or both
@@ -57,11 +58,12 @@ RgbdFrame bareSurfaceFrame(std::uint64_t seed, int size_px) {
   const double floor_shade = ambient + (1.0 - ambient) * std::max(0.0, floor_normal.dot(to_light));
   const double wall_shade = ambient + (1.0 - ambient) * std::max(0.0, wall_normal.dot(to_light));
 
-  RgbdFrame frame{cv::Mat(size_px, size_px, CV_8UC3), cv::Mat(size_px, size_px, CV_32FC1)};
+  frame.rgb.create(size_px, size_px, CV_8UC3);
+  frame.depth.create(size_px, size_px, CV_32FC1);
   for (int row = 0; row < size_px; ++row) {
     for (int column = 0; column < size_px; ++column) {
-      const double u = (column + 0.5 - size_px / 2.0) / focal_px;
-      const double v = (row + 0.5 - size_px / 2.0) / focal_px;
+      const double u = (column - k.cx) / k.fx;
+      const double v = (row - k.cy) / k.fy;
       // The ray (u, v, 1) in the level frame; its parameter along it is the optical-axis depth.
       const Eigen::Vector3d ray(u, c * v + s, -s * v + c);
       double depth_m = std::numeric_limits<double>::infinity();
@@ -95,12 +97,13 @@ RgbdFrame bareSurfaceFrame(std::uint64_t seed, int size_px) {
   return frame;
 }
 
-RgbdFrame objectAloneFrame(const RgbdFrame& frame, const cv::Mat& object_mask) {
+CameraFrame objectAloneFrame(const CameraFrame& frame, const cv::Mat& object_mask) {
   if (object_mask.size() != frame.rgb.size() || object_mask.size() != frame.depth.size()) {
     throw InvalidArgumentError("objectAloneFrame: the mask and the frame differ in size");
   }
-  RgbdFrame alone{cv::Mat(frame.rgb.size(), CV_8UC3, cv::Scalar::all(0)),
-                  cv::Mat(frame.depth.size(), CV_32FC1, cv::Scalar(kNoDepth))};
+  CameraFrame alone = frame;
+  alone.rgb = cv::Mat(frame.rgb.size(), CV_8UC3, cv::Scalar::all(0));
+  alone.depth = cv::Mat(frame.depth.size(), CV_32FC1, cv::Scalar(kNoDepth));
   frame.rgb.copyTo(alone.rgb, object_mask);
   frame.depth.copyTo(alone.depth, object_mask);
   return alone;

@@ -97,21 +97,22 @@ void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& data
   std::uniform_int_distribution<std::size_t> pick(0, std::max<std::size_t>(1, frames.size()) - 1);
   InputScratch scratch;
   const torch::Tensor input = torch::empty({4, format.size, format.size});
-  // [px] bare surfaces are drawn at the first training frame's size (frames are square).
-  const int surface_px =
-      frames.empty() ? 128 : datasets[frames[0].first]->readRgb(*frames[0].second).cols;
+  // [px] bare surfaces are drawn at the first dataset's frame size (frames are square); an object
+  // alone covers at least 1 % of such a frame, enough to show what it looks like alone.
+  const int surface_px = datasets.front()->manifest().at("options").at("size").get<int>();
+  const int min_pixels = std::max(1, surface_px * surface_px / 100);
   int64_t alone = 0;
   for (int64_t k = 0; k < count; ++k) {
     const int64_t row = first + k;
-    std::optional<RgbdFrame> frame;
+    std::optional<CameraFrame> frame;
     for (int attempt = 0; k % 2 == 1 && !frames.empty() && !frame && attempt < 100; ++attempt) {
       const auto& [d, drawn] = frames[pick(random)];
       const dataset::BopDataset& data = *datasets[d];
-      // At least 1 % of such a frame: an object big enough to show what it looks like alone.
-      const int min_pixels = std::max(1, surface_px * surface_px / 100);
       const std::vector<cv::Mat> masks = data.readUnoccludedObjectMasks(*drawn, min_pixels);
       if (masks.empty()) continue;  // the images are read only for a frame that has one
-      const RgbdFrame whole{data.readRgb(*drawn), data.readDepthMeters(*drawn)};
+      CameraFrame whole;
+      whole.rgb = data.readRgb(*drawn);
+      whole.depth = data.readDepthMeters(*drawn);
       frame = objectAloneFrame(whole, masks[random() % masks.size()]);
       ++alone;
     }

@@ -170,12 +170,12 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
 // Bare surfaces: drawn from the seed alone, depth in range where anything is seen and black where
 // nothing is; a frame of an object alone keeps its pixels only.
 TEST(LearningTest, NegativeFramesHoldNothingToOcclude) {
-  const RgbdFrame first = bareSurfaceFrame(3, 48), again = bareSurfaceFrame(3, 48);
+  const CameraFrame first = bareSurfaceFrame(3, 48), again = bareSurfaceFrame(3, 48);
   EXPECT_EQ(cv::norm(first.rgb, again.rgb, cv::NORM_INF), 0.0) << "the same seed, the same frame";
   EXPECT_GT(cv::norm(first.rgb, bareSurfaceFrame(4, 48).rgb, cv::NORM_L1), 0.0);
   int seen_frames = 0;
   for (std::uint64_t seed = 0; seed < 40; ++seed) {
-    const RgbdFrame frame = bareSurfaceFrame(seed, 48);
+    const CameraFrame frame = bareSurfaceFrame(seed, 48);
     ASSERT_EQ(frame.rgb.size(), cv::Size(48, 48));
     ASSERT_EQ(frame.depth.type(), CV_32FC1);
     int seen = 0;
@@ -195,10 +195,12 @@ TEST(LearningTest, NegativeFramesHoldNothingToOcclude) {
   }
   EXPECT_GE(seen_frames, 20) << "most frames show mostly surface";
 
-  RgbdFrame scene{cv::Mat(8, 8, CV_8UC3, cv::Scalar(10, 20, 30)), cv::Mat(8, 8, CV_32FC1, 2.0f)};
+  CameraFrame scene;
+  scene.rgb = cv::Mat(8, 8, CV_8UC3, cv::Scalar(10, 20, 30));
+  scene.depth = cv::Mat(8, 8, CV_32FC1, 2.0f);
   cv::Mat mask = cv::Mat::zeros(8, 8, CV_8UC1);
   mask(cv::Rect(2, 2, 3, 3)) = 255;
-  const RgbdFrame alone = objectAloneFrame(scene, mask);
+  const CameraFrame alone = objectAloneFrame(scene, mask);
   EXPECT_EQ(cv::countNonZero(alone.depth == 2.0f), 9);
   int missing = 0;
   for (int k = 0; k < 64; ++k) missing += std::isnan(alone.depth.at<float>(k / 8, k % 8)) ? 1 : 0;
