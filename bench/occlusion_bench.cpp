@@ -13,10 +13,13 @@
 #include <random>
 #include <utility>
 
+#include <opencv2/imgproc.hpp>
+
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/env/vector_environment.hpp"
+#include "occlusion_env/occlusion/bounding_surfaces.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
 
 namespace occlusion_env {
@@ -128,6 +131,31 @@ void worldArguments(benchmark::internal::Benchmark* benchmark) {
   }
   benchmark->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 }
+
+// The camera bridge's floor-and-wall finder (occlusion/bounding_surfaces.hpp) on the network's
+// 64 x 64 grid of a start view of a room through the D435 model (sampled, not block-averaged).
+void BM_BoundingSurfaces(benchmark::State& state) {
+  Setup setup = setupFor(256, kEmbedded, kLodBudget);
+  setup.options.world.world = "room";
+  setup.options.sensor.depth_sensor = "realsense_d435";
+  Environment env(setup.options);
+  const StepResult start = env.reset(1);
+  cv::Mat depth;
+  cv::resize(start.observation->depth, depth, cv::Size(64, 64), 0.0, 0.0, cv::INTER_NEAREST);
+  CameraIntrinsics grid = start.info.intrinsics;
+  grid.width = grid.height = 64;
+  grid.fx *= 0.25;
+  grid.fy *= 0.25;
+  grid.cx = (grid.cx + 0.5) * 0.25 - 0.5;
+  grid.cy = (grid.cy + 0.5) * 0.25 - 0.5;
+  BoundingSurfaceFinder finder;
+  cv::Mat on_surface;
+  std::size_t planes = 0;
+  for (auto _ : state) planes = finder.find(depth, grid, on_surface).size();
+  state.SetLabel(std::to_string(planes) + " planes, " +
+                 std::to_string(cv::countNonZero(on_surface)) + " of 4096 px on them");
+}
+BENCHMARK(BM_BoundingSurfaces)->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
 
 void BM_Reset(benchmark::State& state) {
   const Setup setup = setupFor(state);

@@ -65,7 +65,10 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
            OptionSpec("with --scenes: \"\" runs on the simulator; else through the camera "
                       "bridge's logic in front of it (doc/CAMERA_BRIDGE.md), this network model "
                       "estimating the occlusion, the simulator's truth scoring where each episode "
-                      "ended (OUT/<set>_bridge_*)"));
+                      "ended (OUT/<set>_bridge_*)"))
+      .add("bridge_clear_surfaces", &O::bridge_clear_surfaces,
+           OptionSpec("with --through-bridge: the bridge clears estimated occlusion on a floor "
+                      "or wall (its ~clear_bounding_surfaces)"));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
 }

@@ -89,10 +89,11 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 /// The --scenes mode through the bridge (--through-bridge): OUT/<set>_bridge_episodes.csv, the
 /// bridge's table in OUT/<set>_bridge.md, then the usual summary of those episodes.
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
-  learning::NetworkOcclusionEstimator estimator(
+  plan.bridge.clear_bounding_surfaces = cl.bridge_clear_surfaces;
+  const auto estimator = learning::makeBridgeEstimator(
       std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)),
-      plan.bridge.occlusion_probability);
-  plan.bridge_estimator = &estimator;
+      plan.bridge);
+  plan.bridge_estimator = estimator.get();
   if (cl.agents.empty()) {  // those that need only what a camera gives
     plan.agents.clear();
     for (const std::string& name : agentRegistry().runnableByDefault()) {

@@ -175,6 +175,9 @@ const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
                    .atLeast(0))
           .add("confirm_views", &Options::confirm_views,
                OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
+          .add("clear_bounding_surfaces", &Options::clear_bounding_surfaces,
+               OptionSpec("estimated occlusion on a floor or wall (a large plane in the depth "
+                          "with nothing seen behind it) is cleared: such a surface hides nothing"))
           .add(
               "success_bonus", &Options::success_bonus,
               OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
@@ -208,6 +211,7 @@ CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& opt
   core.occlusion_probability = options.occlusion_probability;
   core.occlusion_threshold_px = options.occlusion_threshold_px;
   core.confirm_views = options.confirm_views;
+  core.clear_bounding_surfaces = options.clear_bounding_surfaces;
   core.success_bonus = options.success_bonus;
   core.step_penalty = options.step_penalty;
   core.max_steps = options.max_steps;
@@ -236,9 +240,9 @@ namespace {
 std::unique_ptr<ViewOcclusionEstimator> estimatorFor(const CameraBridgeOptions& options) {
   if (options.model_path.empty()) return nullptr;
   try {
-    return std::make_unique<learning::NetworkOcclusionEstimator>(
+    return learning::makeBridgeEstimator(
         std::make_shared<learning::LoadedModel>(learning::loadModel(options.model_path)),
-        options.occlusion_probability);
+        cameraEnvironmentOptions(options));
   } catch (const std::exception& error) {
     throw ParameterError("parameter ~model: " + std::string(error.what()));
   }

@@ -76,6 +76,11 @@ const OptionTable<Arguments>& argumentTable() {
                OptionSpec("with --through-bridge: depth rounded to millimetres, as 16UC1 "
                           "cameras send it"))
           .add(
+              "clear_bounding_surfaces",
+              [](Arguments& a) -> bool& { return a.bridge.clear_bounding_surfaces; },
+              OptionSpec("with --through-bridge: estimated occlusion on a floor or wall is "
+                         "cleared"))
+          .add(
               "agents_markdown", &Arguments::agents_markdown,
               OptionSpec("print the registry's agents as doc/AGENTS.md's Markdown table and exit"));
   return table;
@@ -119,10 +124,10 @@ class Environments {
  public:
   explicit Environments(const Arguments& args) : simulator_(simulatorOptions(args)) {
     if (args.through_bridge.empty()) return;
-    estimator_ = std::make_unique<occlusion_env::learning::NetworkOcclusionEstimator>(
+    estimator_ = occlusion_env::learning::makeBridgeEstimator(
         std::make_shared<occlusion_env::learning::LoadedModel>(
             occlusion_env::learning::loadModel(args.through_bridge)),
-        args.bridge.occlusion_probability);
+        args.bridge);
     bridged_ = std::make_unique<occlusion_env::BridgedSimulator>(
         simulator_, args.bridge, estimator_.get(), args.millimetre_depth);
   }
@@ -258,9 +263,9 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, argumentTable(), args, {"model", "size"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"gradient_method", "world", "depth_sensor"});
-  tools::addOptionFlags(
-      app, argumentTable(), args,
-      {"through_bridge", "confirm_views", "occlusion_probability", "millimetre_depth"});
+  tools::addOptionFlags(app, argumentTable(), args,
+                        {"through_bridge", "confirm_views", "occlusion_probability",
+                         "millimetre_depth", "clear_bounding_surfaces"});
   tools::addOptionFlags(app, argumentTable(), args, {"agents_markdown"});
   app.footer(agentList(registry));
   return tools::parseAndRun(app, argc, argv, [&] { return run(args, registry); });

@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,7 @@ struct Arguments {
   std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
   std::vector<double> confirm_views = {1, 2, 3};
   bool millimetre_depth = false;
+  bool clear_bounding_surfaces = true;
   int size = 256;
 
   Arguments() : model(occlusion_env::learning::cameraModelPath()) {
@@ -74,6 +76,9 @@ const OptionTable<Arguments>& argumentTable() {
                    .range(1, 1000))
           .add("millimetre_depth", &Arguments::millimetre_depth,
                OptionSpec("round depth to millimetres first, as 16UC1 drivers send it"))
+          .add("clear_bounding_surfaces", &Arguments::clear_bounding_surfaces,
+               OptionSpec("clear estimated occlusion on a floor or wall (the bridge's "
+                          "~clear_bounding_surfaces)"))
           .add("size", &Arguments::size,
                OptionSpec("image width and height").unit("px").range(64, 1024));
   return table;
@@ -125,7 +130,11 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       args.agent, {environment, args.agent_model.empty() ? args.model : args.agent_model});
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
   std::vector<learning::OcclusionEstimator> estimators;
-  for (const double probability : args.probabilities) estimators.emplace_back(model, probability);
+  std::optional<BoundingSurfaceOptions> surfaces;
+  if (args.clear_bounding_surfaces) surfaces.emplace();
+  for (const double probability : args.probabilities) {
+    estimators.emplace_back(model, probability, surfaces);
+  }
   cv::Mat mask, depth_16u, depth_mm;
   std::vector<std::vector<View>> views(args.scenes);
   for (int scene = 0; scene < args.scenes; ++scene) {
@@ -146,7 +155,8 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       view.true_pixels = info.occlusion.total_pixels;
       for (learning::OcclusionEstimator& estimator : estimators) {
         view.estimated_pixels.push_back(
-            estimator.estimate(observation.rgb, observation.depth, mask).occluded_pixels);
+            estimator.estimate(observation.rgb, observation.depth, info.intrinsics, mask)
+                .occluded_pixels);
       }
       views[scene].push_back(view);
       if (t == options.max_steps) break;

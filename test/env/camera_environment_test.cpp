@@ -19,7 +19,8 @@ namespace {
 class TrueOcclusion : public ViewOcclusionEstimator {
  public:
   explicit TrueOcclusion(const Environment& environment) : environment_(environment) {}
-  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, cv::Mat& mask) override {
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, const CameraIntrinsics&,
+                        cv::Mat& mask) override {
     mask = environment_.observation().occlusion_mask;
     EXPECT_EQ(mask.size(), rgb.size());
     return environment_.info().occlusion.total_pixels;
@@ -124,7 +125,8 @@ class FixedCamera : public CameraRig {
 
 class CountingEstimator : public ViewOcclusionEstimator {
  public:
-  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat&, cv::Mat& mask) override {
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat&, const CameraIntrinsics&,
+                        cv::Mat& mask) override {
     mask = cv::Mat::zeros(rgb.size(), CV_8UC1);
     return 0;
   }

@@ -76,7 +76,8 @@ class ScriptedCamera : public CameraRig, public ViewOcclusionEstimator {
   }
   const CameraFrame& currentFrame() override { return frame_; }
   std::string describe() const override { return "a scripted camera"; }
-  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, cv::Mat& mask) override {
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, const CameraIntrinsics&,
+                        cv::Mat& mask) override {
     mask = cv::Mat::zeros(rgb.size(), CV_8UC1);
     const std::size_t view = std::min(view_++, script_->size() - 1);  // the last one repeats
     return (*script_)[view];

@@ -16,7 +16,8 @@ namespace {
 // An estimator that says the same of every view.
 class FixedEstimate : public ViewOcclusionEstimator {
  public:
-  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, cv::Mat& mask) override {
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& /*depth*/, const CameraIntrinsics&,
+                        cv::Mat& mask) override {
     mask = cv::Mat::zeros(rgb.size(), CV_8UC1);
     return next_px;
   }

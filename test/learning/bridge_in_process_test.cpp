@@ -26,10 +26,9 @@ TEST(InProcessBridge, TheLearnedAgentRunsThroughTheBridgeScoredByTheSimulatorsTr
   const AgentRegistry registry = learning::learningAgents();
   const std::string model_path = registry.at("predicted_escape").default_model_path;
   CameraEnvironmentOptions bridge_options;  // the node's defaults (camera_bridge_options_test)
-  learning::NetworkOcclusionEstimator estimator(
-      std::make_shared<learning::LoadedModel>(learning::loadModel(model_path)),
-      bridge_options.occlusion_probability);
-  CameraEnvironment bridge(bridge_options, rig, &estimator);
+  const auto estimator = learning::makeBridgeEstimator(
+      std::make_shared<learning::LoadedModel>(learning::loadModel(model_path)), bridge_options);
+  CameraEnvironment bridge(bridge_options, rig, estimator.get());
   std::unique_ptr<Agent> agent = registry.make("predicted_escape", {bridge, ""});
 
   int truly_clear = 0;

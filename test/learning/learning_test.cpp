@@ -628,23 +628,49 @@ TEST(LearningTest, ShiftedFramesMoveWithTheirMasks) {
   EXPECT_TRUE(torch::equal(before, inputs));
 }
 
+TEST(LearningTest, OcclusionEstimatedOnAWallIsClearedAndOnAnObjectInFrontOfItKept) {
+  // A network that says "occluded" everywhere, a wall 2 m away and a box 1.2 m away over the
+  // middle quarter of the view (16 x 16 of the 32 x 32 network pixels).
+  const cv::Mat rgb(128, 128, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::Mat depth(128, 128, CV_32FC1, cv::Scalar(2.0f));
+  const cv::Rect box(32, 32, 64, 64);
+  depth(box).setTo(1.2f);
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 3.0);
+  cv::Mat mask;
+  OcclusionEstimator plain(constantOcclusionModel(1.0f), 0.5);
+  const OcclusionEstimate everywhere = plain.estimate(rgb, depth, intrinsics, mask);
+  EXPECT_EQ(everywhere.occluded_pixels, 128 * 128);
+  EXPECT_EQ(everywhere.cleared_pixels, 0);
+
+  OcclusionEstimator clearing(constantOcclusionModel(1.0f), 0.5, BoundingSurfaceOptions{});
+  const OcclusionEstimate on_the_box = clearing.estimate(rgb, depth, intrinsics, mask);
+  EXPECT_EQ(on_the_box.occluded_pixels, box.area());
+  EXPECT_EQ(on_the_box.cleared_pixels, 128 * 128 - box.area());
+  EXPECT_EQ(cv::countNonZero(mask(box)), box.area());
+  EXPECT_EQ(cv::countNonZero(mask), box.area());
+  // The wall alone: nothing left.
+  depth(box).setTo(2.0f);
+  EXPECT_EQ(clearing.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
+}
+
 TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
   // Not square, not 32 px, and views into larger images (as the bridge's central square is).
   const cv::Mat rgb_full(60, 100, CV_8UC3, cv::Scalar(90, 120, 30));
   const cv::Mat depth_full(60, 100, CV_32FC1, cv::Scalar(3.0f));
   const cv::Mat rgb = rgb_full(cv::Rect(10, 6, 80, 48));
   const cv::Mat depth = depth_full(cv::Rect(10, 6, 80, 48));
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(80, 48, 1.0);
   cv::Mat mask;
   // Logit 1: probability 0.73, occluded at the threshold 0.5, not at 0.9.
   OcclusionEstimator at_half(constantOcclusionModel(1.0f), 0.5);
-  const OcclusionEstimate all = at_half.estimate(rgb, depth, mask);
+  const OcclusionEstimate all = at_half.estimate(rgb, depth, intrinsics, mask);
   EXPECT_EQ(mask.size(), rgb.size());
   EXPECT_EQ(mask.type(), CV_8UC1);
   EXPECT_EQ(all.occluded_pixels, 48 * 80);
   EXPECT_EQ(cv::countNonZero(mask == 255), 48 * 80);
   EXPECT_NEAR(all.mean_probability, 1.0 / (1.0 + std::exp(-1.0)), 1e-5);
   OcclusionEstimator at_ninety(constantOcclusionModel(1.0f), 0.9);
-  EXPECT_EQ(at_ninety.estimate(rgb, depth, mask).occluded_pixels, 0);
+  EXPECT_EQ(at_ninety.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
   EXPECT_EQ(cv::countNonZero(mask), 0);
 
   // A real network's map: the count is the mask's, whatever it predicts.
@@ -654,7 +680,7 @@ TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
   model->network = MultiTaskUNet(config);
   model->network->eval();
   OcclusionEstimator estimator(model);
-  const OcclusionEstimate some = estimator.estimate(rgb, depth, mask);
+  const OcclusionEstimate some = estimator.estimate(rgb, depth, intrinsics, mask);
   EXPECT_EQ(some.occluded_pixels, cv::countNonZero(mask));
 
   EXPECT_THROW(OcclusionEstimator(nullptr), InvalidArgumentError);

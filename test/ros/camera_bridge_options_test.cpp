@@ -46,6 +46,7 @@ TEST(CameraBridgeOptionsTest, TheCoresDefaultsAreTheNodes) {
   EXPECT_EQ(node.occlusion_probability, core.occlusion_probability);
   EXPECT_EQ(node.occlusion_threshold_px, core.occlusion_threshold_px);
   EXPECT_EQ(node.confirm_views, core.confirm_views);
+  EXPECT_EQ(node.clear_bounding_surfaces, core.clear_bounding_surfaces);
   EXPECT_EQ(node.success_bonus, core.success_bonus);
   EXPECT_EQ(node.step_penalty, core.step_penalty);
   EXPECT_EQ(node.max_steps, core.max_steps);
@@ -53,6 +54,8 @@ TEST(CameraBridgeOptionsTest, TheCoresDefaultsAreTheNodes) {
   CameraBridgeOptions changed;
   changed.confirm_views = 3;
   changed.occlusion_threshold_px = 16;
+  changed.clear_bounding_surfaces = false;
+  EXPECT_FALSE(cameraEnvironmentOptions(changed).clear_bounding_surfaces);
   EXPECT_EQ(cameraEnvironmentOptions(changed).rule().confirm_views, 3);
   EXPECT_EQ(cameraEnvironmentOptions(changed).rule().reward.success_threshold_pixels, 16);
 }

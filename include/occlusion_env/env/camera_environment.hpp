@@ -58,7 +58,9 @@ class ViewOcclusionEstimator {
   virtual ~ViewOcclusionEstimator() = default;
   /// The estimated occlusion of the view [px]; writes `mask` (CV_8UC1 at rgb's size, 255 where
   /// occlusion is estimated; reused).
-  virtual std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat& mask) = 0;
+  /// `intrinsics` are the images' (after any crop).
+  virtual std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth,
+                                const CameraIntrinsics& intrinsics, cv::Mat& mask) = 0;
 };
 
 /// The bridge's options apart from ROS; the defaults are config/camera_bridge.yaml's (the ROS
@@ -75,6 +77,9 @@ struct CameraEnvironmentOptions {
   double working_range_factor = 10.0;
   // The stopping rule and reward on the estimate (doc/CAMERA_BRIDGE.md).
   double occlusion_probability = 0.1;  // for the caller's network: a pixel is occluded above it
+  // For the caller's network: estimated occlusion on a floor or wall (occlusion/
+  // bounding_surfaces.hpp) is cleared; such a surface shows no object, so none is hidden there.
+  bool clear_bounding_surfaces = true;
   std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate
   int confirm_views = 5;                    // this many clear step views in a row end an episode
   double success_bonus = 5.0;

@@ -7,10 +7,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
+#include "occlusion_env/occlusion/bounding_surfaces.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -18,44 +20,66 @@ namespace learning {
 struct OcclusionEstimate {
   std::int64_t occluded_pixels = 0;  // [px] of the mask, at the image's resolution
   double mean_probability = 0.0;     // the network's mean occlusion probability over the image
+  std::int64_t cleared_pixels = 0;   // [px] estimated on a bounding surface and cleared
 };
 
 class OcclusionEstimator {
  public:
   /// A pixel counts as occluded where the network's probability exceeds
-  /// `probability_threshold` (0.5: the threshold of the validation IoU). Throws
-  /// InvalidArgumentError for a missing model or a threshold outside (0, 1).
+  /// `probability_threshold` (0.5: the threshold of the validation IoU). With `surfaces`, a
+  /// network pixel whose depth lies on a bounding surface (a floor, a wall:
+  /// occlusion/bounding_surfaces.hpp) is never occluded. Throws InvalidArgumentError for a
+  /// missing model, a threshold outside (0, 1) or bad surface options.
   explicit OcclusionEstimator(std::shared_ptr<LoadedModel> model,
-                              double probability_threshold = 0.5);
+                              double probability_threshold = 0.5,
+                              std::optional<BoundingSurfaceOptions> surfaces = std::nullopt);
 
-  /// Runs the network on `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) and writes
-  /// `mask` (CV_8UC1 at rgb's size, 255 where occlusion is predicted, else 0; reused). No
-  /// allocation once the buffers are sized, but for libtorch's own.
-  OcclusionEstimate estimate(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat& mask);
+  /// Runs the network on `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing), seen with
+  /// `intrinsics` (of their size), and writes `mask` (CV_8UC1 at rgb's size, 255 where
+  /// occlusion is predicted, else 0; reused). No allocation once the buffers are sized, but for
+  /// libtorch's own.
+  OcclusionEstimate estimate(const cv::Mat& rgb, const cv::Mat& depth,
+                             const CameraIntrinsics& intrinsics, cv::Mat& mask);
 
   const LoadedModel& model() const { return *model_; }
 
  private:
+  /// Clears the network pixels of small_mask_ that lie on a bounding surface of `depth`; returns
+  /// how many image pixels that was.
+  std::int64_t clearBoundingSurfaces(const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                                     const cv::Size& image_size);
+
   std::shared_ptr<LoadedModel> model_;
   float logit_threshold_;  // log(p / (1 - p)) of the probability threshold
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
+  // With surfaces: the depth at the network's resolution (the mean of each block's readings),
+  // what the finder marks there, and the scratch of the mean.
+  std::optional<BoundingSurfaceFinder> surfaces_;
+  cv::Mat depth_zeroed_, valid_, depth_sum_small_, valid_small_, depth_small_, on_surface_;
 };
 
 /// The network's estimate where the camera bridge's logic asks for one
 /// (env/camera_environment.hpp): the occluded pixels of its mask.
 class NetworkOcclusionEstimator : public ViewOcclusionEstimator {
  public:
-  NetworkOcclusionEstimator(std::shared_ptr<LoadedModel> model, double probability_threshold)
-      : estimator_(std::move(model), probability_threshold) {}
-  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat& mask) override {
-    return estimator_.estimate(rgb, depth, mask).occluded_pixels;
+  NetworkOcclusionEstimator(std::shared_ptr<LoadedModel> model, double probability_threshold,
+                            std::optional<BoundingSurfaceOptions> surfaces = std::nullopt)
+      : estimator_(std::move(model), probability_threshold, std::move(surfaces)) {}
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth,
+                        const CameraIntrinsics& intrinsics, cv::Mat& mask) override {
+    return estimator_.estimate(rgb, depth, intrinsics, mask).occluded_pixels;
   }
 
  private:
   OcclusionEstimator estimator_;
 };
+
+/// The camera bridge's estimator under `options` (its occlusion_probability and
+/// clear_bounding_surfaces): one place for the node, the in-process bridge and the tools.
+std::unique_ptr<NetworkOcclusionEstimator> makeBridgeEstimator(
+    std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options);
 
 }  // namespace learning
 }  // namespace occlusion_env

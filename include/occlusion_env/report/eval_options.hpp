@@ -43,6 +43,7 @@ struct EvalOptions {
   std::optional<std::string> depth_sensor;
   bool randomize = false;
   std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
+  bool bridge_clear_surfaces = true;  // the bridge's clear_bounding_surfaces
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.

@@ -76,6 +76,7 @@ struct CameraBridgeOptions {
   double occlusion_probability = 0.1;       // a pixel is occluded above this probability
   std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate [px]
   int confirm_views = 5;                    // this many clear views in a row end an episode
+  bool clear_bounding_surfaces = true;      // no occlusion on a floor or wall (see the core's)
   double success_bonus = 5.0;  // the reward of the estimate: (L_{t-1} - L_t) / max(1, L_0) + P
   double step_penalty = -0.2;
 
