@@ -21,6 +21,8 @@
 #include "occlusion_env/env/vector_environment.hpp"
 #include "occlusion_env/occlusion/bounding_surfaces.hpp"
 #include "occlusion_env/occlusion/occlusion_gradient.hpp"
+#include "occlusion_env/scene/model_split.hpp"
+#include "occlusion_env/scene/object_catalog.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -156,6 +158,21 @@ void BM_BoundingSurfaces(benchmark::State& state) {
                  std::to_string(cv::countNonZero(on_surface)) + " of 4096 px on them");
 }
 BENCHMARK(BM_BoundingSurfaces)->Unit(benchmark::kMillisecond)->MinTime(1.0)->UseRealTime();
+
+// What every random scene draw of Sweet Home 3D chairs and tables of the train split pays to
+// know which models it may draw (scene/model_split.hpp).
+void BM_ModelSplit(benchmark::State& state) {
+  CatalogOptions sweethome3d;
+  sweethome3d.source = "sweethome3d";
+  const std::unique_ptr<ObjectCatalog> catalog = makeCatalog(sweethome3d);
+  std::vector<std::string> ids = catalog->idsInCategory("chair");
+  const std::vector<std::string> tables = catalog->idsInCategory("table");
+  ids.insert(ids.end(), tables.begin(), tables.end());
+  std::size_t kept = 0;
+  for (auto _ : state) kept = idsInSplit(*catalog, ids, ModelSplit::kTrain).size();
+  state.SetLabel(std::to_string(kept) + " of " + std::to_string(ids.size()) + " ids kept");
+}
+BENCHMARK(BM_ModelSplit)->Unit(benchmark::kMicrosecond)->MinTime(1.0)->UseRealTime();
 
 void BM_Reset(benchmark::State& state) {
   const Setup setup = setupFor(state);

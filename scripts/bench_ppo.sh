@@ -17,22 +17,7 @@ trainer="$devel/lib/occlusion_env/occlusion_train_ppo"
 scratch=$(mktemp -d)
 
 summarise() {  # LABEL RUN_DIR
-  python3 - "$1" "$2/updates.csv" <<'PY'
-import csv, statistics, sys
-label, path = sys.argv[1], sys.argv[2]
-rows = list(csv.DictReader(open(path)))
-rates, env, inf, opt, total = [], 0.0, 0.0, 0.0, 0.0
-for previous, row in zip(rows, rows[1:]):
-    if int(row["update"]) < 6:
-        continue
-    dt = float(row["seconds"]) - float(previous["seconds"])
-    steps = int(row["env_steps"]) - int(previous["env_steps"])
-    rates.append(steps / dt)
-    env += float(row["environment_seconds"]); inf += float(row["inference_seconds"])
-    opt += float(row["optimisation_seconds"]); total += dt
-print(f"| {label} | {statistics.median(rates):.0f} | {100*env/total:.0f} % | {100*inf/total:.0f} % "
-      f"| {100*opt/total:.0f} % | {len(rates)} |")
-PY
+  python3 "$root/scripts/ppo_rate.py" --no-header --from-update 6 --label "$1" "$2"
 }
 
 echo "| environments | steps/s (median) | environments | inference | optimisation | updates |"

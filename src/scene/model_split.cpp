@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "occlusion_env/common/errors.hpp"
 
@@ -38,30 +42,58 @@ std::string toString(ModelSplit split) {
   return "unknown";
 }
 
-ModelSplit modelSplitOf(const ObjectCatalog& catalog, const std::string& id) {
+namespace {
+
+// The test models of `category`: the first 20 % (at least one; none of a single model) of its ids
+// ordered by hash, then by id; sorted by id.
+std::vector<std::string> testIdsOf(const ObjectCatalog& catalog, const std::string& category) {
+  const std::vector<std::string> ids = catalog.idsInCategory(category);
+  if (ids.size() < 2) return {};
+  std::vector<std::pair<std::uint64_t, const std::string*>> keyed;
+  keyed.reserve(ids.size());
+  for (const std::string& id : ids) keyed.emplace_back(fnv1a(id), &id);
+  std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : *a.second < *b.second;
+  });
+  const std::size_t test_count = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::lround(kTestFraction * static_cast<double>(ids.size()))));
+  std::vector<std::string> test;
+  for (std::size_t k = 0; k < test_count; ++k) test.push_back(*keyed[k].second);
+  std::sort(test.begin(), test.end());
+  return test;
+}
+
+const ObjectInfo& infoOf(const ObjectCatalog& catalog, const std::string& id) {
   const ObjectInfo* info = catalog.find(id);
   if (info == nullptr) {
     throw InvalidArgumentError("unknown object id " + quoted(id) + " in the " +
                                catalog.sourceName() + " catalogue");
   }
-  std::vector<std::string> ids = catalog.idsInCategory(info->category);
-  if (ids.size() < 2) return ModelSplit::kTrain;
-  std::sort(ids.begin(), ids.end(), [](const std::string& a, const std::string& b) {
-    const std::uint64_t ha = fnv1a(a), hb = fnv1a(b);
-    return ha != hb ? ha < hb : a < b;
-  });
-  const std::size_t test_count = std::max<std::size_t>(
-      1, static_cast<std::size_t>(std::lround(kTestFraction * static_cast<double>(ids.size()))));
-  const auto position = std::find(ids.begin(), ids.end(), id) - ids.begin();
-  return static_cast<std::size_t>(position) < test_count ? ModelSplit::kTest : ModelSplit::kTrain;
+  return *info;
+}
+
+}  // namespace
+
+ModelSplit modelSplitOf(const ObjectCatalog& catalog, const std::string& id) {
+  const std::vector<std::string> test = testIdsOf(catalog, infoOf(catalog, id).category);
+  return std::binary_search(test.begin(), test.end(), id) ? ModelSplit::kTest : ModelSplit::kTrain;
 }
 
 std::vector<std::string> idsInSplit(const ObjectCatalog& catalog,
                                     const std::vector<std::string>& ids, ModelSplit split) {
   if (split == ModelSplit::kAll) return ids;
+  // Each category's test models once, not once per id.
+  std::map<std::string, std::vector<std::string>> test_ids_by_category;
   std::vector<std::string> kept;
   for (const std::string& id : ids) {
-    if (modelSplitOf(catalog, id) == split) kept.push_back(id);
+    const std::string& category = infoOf(catalog, id).category;
+    auto found = test_ids_by_category.find(category);
+    if (found == test_ids_by_category.end()) {
+      found = test_ids_by_category.emplace(category, testIdsOf(catalog, category)).first;
+    }
+    const std::vector<std::string>& test = found->second;
+    const bool in_test = std::binary_search(test.begin(), test.end(), id);
+    if (in_test == (split == ModelSplit::kTest)) kept.push_back(id);
   }
   return kept;
 }

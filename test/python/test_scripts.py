@@ -148,3 +148,29 @@ def test_bridge_rows_name_both_networks_and_rerun_each_summary(tmp_path):
     assert "49 / 50 (98 %)" in rows[3]
     assert rows[4].startswith("| agent models/multitask_unet64_camera_agent.pt, "
                               "bridge models/multitask_unet64_camera.pt |")
+
+
+PPO_RATE = os.path.join(ROOT, "scripts", "ppo_rate.py")
+
+
+def write_updates(run, seconds_per_update):
+    run.mkdir()
+    lines = ["update,env_steps,seconds,environment_seconds,inference_seconds,"
+             "optimisation_seconds"]
+    seconds = 0.0
+    for update, dt in enumerate(seconds_per_update, start=1):
+        seconds += dt
+        lines.append(f"{update},{200 * update},{seconds},{dt / 2},{dt / 4},{dt / 4}")
+    (run / "updates.csv").write_text("\n".join(lines) + "\n")
+
+
+def test_ppo_rate_is_the_median_over_the_updates_asked_for(tmp_path):
+    # Updates 2-5 take 1, 2, 4 and 1 s for 200 steps each; from update 3: 100, 50, 200 steps/s.
+    write_updates(tmp_path / "run", [9.0, 1.0, 2.0, 4.0, 1.0])
+    out = subprocess.run([sys.executable, PPO_RATE, tmp_path / "run", "--from-update", "3",
+                          "--label", "two envs"], capture_output=True, text=True, check=True)
+    assert out.stdout.splitlines()[-1] == "| two envs | 100 | 50 % | 25 % | 25 % | 3 |"
+    # Nothing from update 9 on: refused, not a row of nothing.
+    failed = subprocess.run([sys.executable, PPO_RATE, tmp_path / "run", "--from-update", "9"],
+                            capture_output=True, text=True)
+    assert failed.returncode == 1 and "no update from 9" in failed.stderr
