@@ -258,7 +258,8 @@ int main(int argc, char** argv) {
                         {"agent", "model", "agent_model", "scenes", "first_seed"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options, {"max_steps"});
   tools::addOptionFlags(app, argumentTable(), args,
-                        {"thresholds", "probabilities", "confirm_views", "millimetre_depth"});
+                        {"thresholds", "probabilities", "confirm_views", "millimetre_depth",
+                         "clear_bounding_surfaces"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"catalog_source", "categories", "model_split", "world", "depth_sensor"});
   tools::addOptionFlags(app, argumentTable(), args, {"size"});
