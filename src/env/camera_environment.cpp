@@ -112,7 +112,8 @@ void CameraEnvironment::takeView(const CameraFrame& frame, StepInfo& info) {
   if (estimator_) {
     // The network predicts where silhouettes overlap, not how many overlap there: the area stands
     // for L as well.
-    const std::int64_t estimate = estimator_->estimate(observation_.rgb, observation_.depth, intrinsics_, mask_);
+    const std::int64_t estimate =
+        estimator_->estimate(observation_.rgb, observation_.depth, intrinsics_, mask_);
     occlusion.total_pixels = occlusion.occluded_area_pixels = estimate;
     occlusion.union_pixels = kUnknownOcclusion;
     info.occlusion_source = OcclusionSource::kEstimated;

@@ -91,8 +91,7 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   plan.bridge.clear_bounding_surfaces = cl.bridge_clear_surfaces;
   const auto estimator = learning::makeBridgeEstimator(
-      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)),
-      plan.bridge);
+      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
   plan.bridge_estimator = estimator.get();
   if (cl.agents.empty()) {  // those that need only what a camera gives
     plan.agents.clear();

@@ -55,9 +55,9 @@ TEST(ModelSplit, IdsOfSeveralCategoriesKeepTheirOrder) {
   const std::vector<std::string> mixed = {"embedded/table_round", "embedded/chair_office",
                                           "embedded/chair_slat", "embedded/mug",
                                           "embedded/table_dining"};
-  EXPECT_EQ(idsInSplit(*catalog, mixed, ModelSplit::kTrain),
-            (std::vector<std::string>{"embedded/chair_office", "embedded/mug",
-                                      "embedded/table_dining"}));
+  EXPECT_EQ(
+      idsInSplit(*catalog, mixed, ModelSplit::kTrain),
+      (std::vector<std::string>{"embedded/chair_office", "embedded/mug", "embedded/table_dining"}));
   EXPECT_EQ(idsInSplit(*catalog, mixed, ModelSplit::kTest),
             (std::vector<std::string>{"embedded/table_round", "embedded/chair_slat"}));
   EXPECT_THROW(modelSplitOf(*catalog, "embedded/no_such_thing"), InvalidArgumentError);
