@@ -61,6 +61,22 @@ float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row
 
 // DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours.
 void writeDepthFilled(const cv::Mat& depth, int size, InputScratch& scratch, float* out) {
+  sumValidDepth(depth, size, scratch);
+  for (int row = 0; row < size; ++row) {
+    const float* sums = scratch.depth_small.ptr<float>(row);
+    const float* fractions = scratch.valid_small.ptr<float>(row);
+    for (int col = 0; col < size; ++col) {
+      const float metres = fractions[col] > 0.0f
+                               ? sums[col] / fractions[col]
+                               : filledGap(scratch.depth_small, scratch.valid_small, row, col);
+      out[row * size + col] = normalisedDepth(metres);
+    }
+  }
+}
+
+}  // namespace
+
+void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch) {
   scratch.depth_filled.create(depth.size(), CV_32FC1);
   scratch.valid.create(depth.size(), CV_32FC1);
   for (int row = 0; row < depth.rows; ++row) {
@@ -77,19 +93,7 @@ void writeDepthFilled(const cv::Mat& depth, int size, InputScratch& scratch, flo
   const cv::Size target(size, size);
   resizeTo(scratch.depth_filled, target, scratch.depth_small);  // the valid depths' sum / area
   resizeTo(scratch.valid, target, scratch.valid_small);         // the valid fraction
-  for (int row = 0; row < size; ++row) {
-    const float* sums = scratch.depth_small.ptr<float>(row);
-    const float* fractions = scratch.valid_small.ptr<float>(row);
-    for (int col = 0; col < size; ++col) {
-      const float metres = fractions[col] > 0.0f
-                               ? sums[col] / fractions[col]
-                               : filledGap(scratch.depth_small, scratch.valid_small, row, col);
-      out[row * size + col] = normalisedDepth(metres);
-    }
-  }
 }
-
-}  // namespace
 
 void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
                        InputScratch& scratch, float* out) {

@@ -30,18 +30,15 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
                                                        const CameraIntrinsics& intrinsics,
                                                        const cv::Size& image_size) {
   const int size = small_mask_.rows;
-  // Each network pixel's depth: the mean of the readings of its block (none: NaN).
-  cv::compare(depth, 0.0, valid_, cv::CMP_GT);  // false for NaN
-  depth_zeroed_.create(depth.size(), CV_32FC1);
-  depth_zeroed_.setTo(0.0f);
-  depth.copyTo(depth_zeroed_, valid_);
-  cv::resize(depth_zeroed_, depth_sum_small_, small_mask_.size(), 0.0, 0.0, cv::INTER_AREA);
-  valid_.convertTo(depth_zeroed_, CV_32FC1, 1.0 / 255.0);
-  cv::resize(depth_zeroed_, valid_small_, small_mask_.size(), 0.0, 0.0, cv::INTER_AREA);
+  // Each network pixel's depth: the mean of the readings of its block (none: NaN). The filled
+  // input has summed them already.
+  if (model_->network->config().inputFormat().depth_gaps != DepthGaps::kFilled) {
+    sumValidDepth(depth, size, scratch_);
+  }
   depth_small_.create(small_mask_.size(), CV_32FC1);
   for (int row = 0; row < size; ++row) {
-    const float* sum = depth_sum_small_.ptr<float>(row);
-    const float* fraction = valid_small_.ptr<float>(row);
+    const float* sum = scratch_.depth_small.ptr<float>(row);
+    const float* fraction = scratch_.valid_small.ptr<float>(row);
     float* out = depth_small_.ptr<float>(row);
     for (int col = 0; col < size; ++col) {
       // At least half of the block read: a mean over a few speckles is no surface.

@@ -101,87 +101,109 @@ void checkCameraInfo(const sensor_msgs::CameraInfo& info, int width, int height,
 // Options
 // ---------------------------------------------------------------------------------------------
 
-const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
+namespace {
+
+// The viewing sphere and the episodes, as the simulator's.
+void addSphereOptions(OptionTable<CameraBridgeOptions>& table) {
   using Options = CameraBridgeOptions;
-  static const auto table =
-      OptionTable<Options>()
-          .add("sphere_frame", &Options::sphere_frame,
-               OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
-                          "about its z from its x, elevation above its xy plane; not empty"))
-          .add("optical_frame", &Options::optical_frame,
-               OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"))
-          .add("radius", &Options::radius_m,
-               OptionSpec("the camera stays this far from the centre").unit("m").above(0))
-          .add("elevation_limit", &Options::elevation_limit_rad,
-               OptionSpec("goals are clamped to +/- this elevation (80 deg)")
-                   .unit("rad")
-                   .atLeast(0)
-                   .below(M_PI / 2.0))
-          .add("step_size", &Options::step_size_rad,
-               OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
-          .add("normalize_action", &Options::normalize_action,
-               OptionSpec("true: each step moves exactly step_size along the action; false: the "
-                          "action as given, clipped to length step_size"))
-          .add("max_steps", &Options::max_steps,
-               OptionSpec("steps before an episode is truncated").atLeast(1))
-          .add("arrival_tolerance", &Options::arrival_tolerance_steps,
-               OptionSpec("the camera has arrived when tf shows it within this fraction of a step "
-                          "of the goal: arrival_tolerance * radius * step_size in position, "
-                          "arrival_tolerance * step_size in orientation")
-                   .unit("steps")
-                   .above(0)
-                   .atMost(0.5))
-          .add("arrival_timeout", &Options::arrival_timeout_s,
-               OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
-          .add("frame_timeout", &Options::frame_timeout_s,
-               OptionSpec("no frame this long after arrival + settle_time fails (UNAVAILABLE)")
-                   .unit("s")
-                   .above(0))
-          .add("settle_time", &Options::settle_time_s,
-               OptionSpec("wait after arrival: frames stamped less than this after it are not "
-                          "used (motion blur, a robot that rings after it stops)")
-                   .unit("s")
-                   .atLeast(0))
-          .add("sync_slop", &Options::sync_slop_s,
-               OptionSpec("RGB, depth and camera_info stamped within this are one frame")
-                   .unit("s")
-                   .atLeast(0))
-          .add(
-              "tf_poll_period", &Options::tf_poll_period_s,
-              OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1))
-          .add("square_crop", &Options::square_crop,
-               OptionSpec("agents get the central square of the images (as trained); "
-                          "camera_info's principal point is moved to match"))
-          .add("min_valid_depth_fraction", &Options::min_valid_depth_fraction,
-               OptionSpec("a view with depth within the working range on less of its pixels is "
-                          "not used (UNAVAILABLE): a covered lens, a camera too close, depth in "
-                          "another unit")
-                   .above(0)
-                   .atMost(1))
-          .add("working_range_factor", &Options::working_range_factor,
-               OptionSpec("depth readings count within [radius / this, radius * this]").atLeast(1))
-          .add("scene_service", &Options::scene_service,
-               OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
-                          "scene at every reset"))
-          .add("model", &Options::model_path,
-               OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
-                          "else a multi-task network (.pt with its .json) whose occlusion map is "
-                          "the ESTIMATED occlusion"))
-          .add("occlusion_probability", &Options::occlusion_probability,
-               OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
-          .add("occlusion_threshold", &Options::occlusion_threshold_px,
-               OptionSpec("a view whose estimate is at or below this is clear")
-                   .unit("px")
-                   .atLeast(0))
-          .add("confirm_views", &Options::confirm_views,
-               OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
-          .add("clear_bounding_surfaces", &Options::clear_bounding_surfaces,
-               OptionSpec("estimated occlusion on a floor or wall (a large plane in the depth "
-                          "with nothing seen behind it) is cleared: such a surface hides nothing"))
-          .add(
-              "success_bonus", &Options::success_bonus,
-              OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
-          .add("step_penalty", &Options::step_penalty, OptionSpec("reward P of the other steps"));
+  table
+      .add("sphere_frame", &Options::sphere_frame,
+           OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
+                      "about its z from its x, elevation above its xy plane; not empty"))
+      .add("optical_frame", &Options::optical_frame,
+           OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"))
+      .add("radius", &Options::radius_m,
+           OptionSpec("the camera stays this far from the centre").unit("m").above(0))
+      .add("elevation_limit", &Options::elevation_limit_rad,
+           OptionSpec("goals are clamped to +/- this elevation (80 deg)")
+               .unit("rad")
+               .atLeast(0)
+               .below(M_PI / 2.0))
+      .add("step_size", &Options::step_size_rad,
+           OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
+      .add("normalize_action", &Options::normalize_action,
+           OptionSpec("true: each step moves exactly step_size along the action; false: the "
+                      "action as given, clipped to length step_size"))
+      .add("max_steps", &Options::max_steps,
+           OptionSpec("steps before an episode is truncated").atLeast(1));
+}
+
+// When the robot has arrived and which frame is the view's.
+void addMotionAndFrameOptions(OptionTable<CameraBridgeOptions>& table) {
+  using Options = CameraBridgeOptions;
+  table
+      .add("arrival_tolerance", &Options::arrival_tolerance_steps,
+           OptionSpec("the camera has arrived when tf shows it within this fraction of a step "
+                      "of the goal: arrival_tolerance * radius * step_size in position, "
+                      "arrival_tolerance * step_size in orientation")
+               .unit("steps")
+               .above(0)
+               .atMost(0.5))
+      .add("arrival_timeout", &Options::arrival_timeout_s,
+           OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
+      .add("frame_timeout", &Options::frame_timeout_s,
+           OptionSpec("no frame this long after arrival + settle_time fails (UNAVAILABLE)")
+               .unit("s")
+               .above(0))
+      .add("settle_time", &Options::settle_time_s,
+           OptionSpec("wait after arrival: frames stamped less than this after it are not "
+                      "used (motion blur, a robot that rings after it stops)")
+               .unit("s")
+               .atLeast(0))
+      .add("sync_slop", &Options::sync_slop_s,
+           OptionSpec("RGB, depth and camera_info stamped within this are one frame")
+               .unit("s")
+               .atLeast(0))
+      .add("tf_poll_period", &Options::tf_poll_period_s,
+           OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1))
+      .add("square_crop", &Options::square_crop,
+           OptionSpec("agents get the central square of the images (as trained); "
+                      "camera_info's principal point is moved to match"))
+      .add("min_valid_depth_fraction", &Options::min_valid_depth_fraction,
+           OptionSpec("a view with depth within the working range on less of its pixels is "
+                      "not used (UNAVAILABLE): a covered lens, a camera too close, depth in "
+                      "another unit")
+               .above(0)
+               .atMost(1))
+      .add("working_range_factor", &Options::working_range_factor,
+           OptionSpec("depth readings count within [radius / this, radius * this]").atLeast(1));
+}
+
+// Episodes and what is estimated: the scene service, the network and the stopping rule.
+void addEstimateOptions(OptionTable<CameraBridgeOptions>& table) {
+  using Options = CameraBridgeOptions;
+  table
+      .add("scene_service", &Options::scene_service,
+           OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
+                      "scene at every reset"))
+      .add("model", &Options::model_path,
+           OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
+                      "else a multi-task network (.pt with its .json) whose occlusion map is "
+                      "the ESTIMATED occlusion"))
+      .add("occlusion_probability", &Options::occlusion_probability,
+           OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
+      .add("occlusion_threshold", &Options::occlusion_threshold_px,
+           OptionSpec("a view whose estimate is at or below this is clear").unit("px").atLeast(0))
+      .add("confirm_views", &Options::confirm_views,
+           OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
+      .add("clear_bounding_surfaces", &Options::clear_bounding_surfaces,
+           OptionSpec("estimated occlusion on a floor or wall (a large plane in the depth "
+                      "with nothing seen behind it) is cleared: such a surface hides nothing"))
+      .add("success_bonus", &Options::success_bonus,
+           OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
+      .add("step_penalty", &Options::step_penalty, OptionSpec("reward P of the other steps"));
+}
+
+}  // namespace
+
+const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
+  static const auto table = [] {
+    OptionTable<CameraBridgeOptions> made;
+    addSphereOptions(made);
+    addMotionAndFrameOptions(made);
+    addEstimateOptions(made);
+    return made;
+  }();
   return table;
 }
 

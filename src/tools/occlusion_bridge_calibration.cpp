@@ -41,7 +41,7 @@ struct Arguments {
   std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
   std::vector<double> confirm_views = {1, 2, 3};
   bool millimetre_depth = false;
-  bool clear_bounding_surfaces = true;
+  bool clear_bounding_surfaces = occlusion_env::CameraEnvironmentOptions{}.clear_bounding_surfaces;
   int size = 256;
 
   Arguments() : model(occlusion_env::learning::cameraModelPath()) {

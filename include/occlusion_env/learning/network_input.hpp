@@ -37,6 +37,12 @@ struct InputScratch {
   cv::Mat depth_filled, valid, rgb_small, depth_small, valid_small;
 };
 
+/// The valid depth readings of each network pixel's block: their sum over the block's area
+/// (clamped to kFarDepthM) into scratch.depth_small and their fraction of it into
+/// scratch.valid_small, both size x size; their mean is the one over the other. The filled input
+/// is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already there.
+void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch);
+
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
 /// `format` into `out` (4 * size * size floats, channel-major). Throws InvalidArgumentError on
 /// wrong types or sizes.

@@ -54,10 +54,10 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
-  // With surfaces: the depth at the network's resolution (the mean of each block's readings),
-  // what the finder marks there, and the scratch of the mean.
+  // With surfaces: the depth at the network's resolution (the mean of each block's readings)
+  // and what the finder marks there.
   std::optional<BoundingSurfaceFinder> surfaces_;
-  cv::Mat depth_zeroed_, valid_, depth_sum_small_, valid_small_, depth_small_, on_surface_;
+  cv::Mat depth_small_, on_surface_;
 };
 
 /// The network's estimate where the camera bridge's logic asks for one

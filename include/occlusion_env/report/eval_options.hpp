@@ -8,6 +8,7 @@
 
 #include "occlusion_env/agents/agent_registry.hpp"
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/eval/best.hpp"
 
 namespace occlusion_env {
@@ -43,7 +44,8 @@ struct EvalOptions {
   std::optional<std::string> depth_sensor;
   bool randomize = false;
   std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
-  bool bridge_clear_surfaces = true;  // the bridge's clear_bounding_surfaces
+  // The bridge's clear_bounding_surfaces, its default the bridge's.
+  bool bridge_clear_surfaces = CameraEnvironmentOptions{}.clear_bounding_surfaces;
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
