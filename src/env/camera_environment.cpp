@@ -19,6 +19,59 @@ std::string percent(double fraction) {
 
 }  // namespace
 
+const OptionTable<CameraEnvironmentOptions>& cameraEnvironmentOptionTable() {
+  using Options = CameraEnvironmentOptions;
+  static const auto table = [] {
+    OptionTable<Options> made;
+    // The viewing sphere and the episodes, as the simulator's.
+    made.add("radius", &Options::radius_m,
+             OptionSpec("the camera stays this far from the centre").unit("m").above(0))
+        .add("elevation_limit", &Options::elevation_limit_rad,
+             OptionSpec("goals are clamped to +/- this elevation (80 deg)")
+                 .unit("rad")
+                 .atLeast(0)
+                 .below(M_PI / 2.0))
+        .add("step_size", &Options::step_size_rad,
+             OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
+        .add("normalize_action", &Options::normalize_action,
+             OptionSpec("true: each step moves exactly step_size along the action; false: the "
+                        "action as given, clipped to length step_size"))
+        .add("max_steps", &Options::max_steps,
+             OptionSpec("steps before an episode is truncated").atLeast(1));
+    // Which views are used.
+    made.add("square_crop", &Options::square_crop,
+             OptionSpec("agents get the central square of the images (as trained); "
+                        "camera_info's principal point is moved to match"))
+        .add("min_valid_depth_fraction", &Options::min_valid_depth_fraction,
+             OptionSpec("a view with depth within the working range on less of its pixels is "
+                        "not used (UNAVAILABLE): a covered lens, a camera too close, depth in "
+                        "another unit")
+                 .above(0)
+                 .atMost(1))
+        .add("working_range_factor", &Options::working_range_factor,
+             OptionSpec("depth readings count within [radius / this, radius * this]").atLeast(1));
+    // The estimate, the stopping rule and the reward.
+    made.add("occlusion_probability", &Options::occlusion_probability,
+             OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
+        .add("occlusion_threshold", &Options::occlusion_threshold_px,
+             OptionSpec("a view whose estimate is at or below this is clear").unit("px").atLeast(0))
+        .add("confirm_views", &Options::confirm_views,
+             OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
+        .add("clear_bounding_surfaces", &Options::clear_bounding_surfaces,
+             OptionSpec("estimated occlusion on a floor or wall (a large plane in the depth "
+                        "with nothing seen behind it) is cleared: such a surface hides nothing"))
+        .add("success_bonus", &Options::success_bonus,
+             OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
+        .add("step_penalty", &Options::step_penalty, OptionSpec("reward P of the other steps"));
+    return made;
+  }();
+  return table;
+}
+
+void CameraEnvironmentOptions::validate() const {
+  cameraEnvironmentOptionTable().check(*this);
+}
+
 EpisodeRuleOptions CameraEnvironmentOptions::rule() const {
   EpisodeRuleOptions rule;
   rule.reward.normalization = RewardNormalization::kIntersection;
@@ -69,18 +122,11 @@ double checkDepthCoverage(const cv::Mat& depth_m, double near_m, double far_m,
 
 CameraEnvironment::CameraEnvironment(const CameraEnvironmentOptions& options, CameraRig& rig,
                                      ViewOcclusionEstimator* estimator)
-    : options_(options),
+    : options_((options.validate(), options)),  // before the sphere is made of them
       rig_(rig),
       estimator_(estimator),
       sphere_(options.radius_m, options.elevation_limit_rad),
-      rule_(options.rule()) {
-  if (!(options.step_size_rad > 0.0) || !(options.min_valid_depth_fraction > 0.0) ||
-      !(options.working_range_factor >= 1.0)) {
-    throw InvalidArgumentError(
-        "camera bridge: step_size and min_valid_depth_fraction must be positive, "
-        "working_range_factor at least 1");
-  }
-}
+      rule_(options.rule()) {}
 
 void CameraEnvironment::takeView(const CameraFrame& frame, StepInfo& info) {
   if (frame.rgb.empty() || frame.rgb.size() != frame.depth.size() || frame.rgb.type() != CV_8UC3 ||

@@ -103,33 +103,19 @@ void checkCameraInfo(const sensor_msgs::CameraInfo& info, int width, int height,
 
 namespace {
 
-// The viewing sphere and the episodes, as the simulator's.
-void addSphereOptions(OptionTable<CameraBridgeOptions>& table) {
+// The viewing sphere's and the camera's frames.
+void addFrameOptions(OptionTable<CameraBridgeOptions>& table) {
   using Options = CameraBridgeOptions;
   table
       .add("sphere_frame", &Options::sphere_frame,
            OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
                       "about its z from its x, elevation above its xy plane; not empty"))
       .add("optical_frame", &Options::optical_frame,
-           OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"))
-      .add("radius", &Options::radius_m,
-           OptionSpec("the camera stays this far from the centre").unit("m").above(0))
-      .add("elevation_limit", &Options::elevation_limit_rad,
-           OptionSpec("goals are clamped to +/- this elevation (80 deg)")
-               .unit("rad")
-               .atLeast(0)
-               .below(M_PI / 2.0))
-      .add("step_size", &Options::step_size_rad,
-           OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
-      .add("normalize_action", &Options::normalize_action,
-           OptionSpec("true: each step moves exactly step_size along the action; false: the "
-                      "action as given, clipped to length step_size"))
-      .add("max_steps", &Options::max_steps,
-           OptionSpec("steps before an episode is truncated").atLeast(1));
+           OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"));
 }
 
 // When the robot has arrived and which frame is the view's.
-void addMotionAndFrameOptions(OptionTable<CameraBridgeOptions>& table) {
+void addMotionOptions(OptionTable<CameraBridgeOptions>& table) {
   using Options = CameraBridgeOptions;
   table
       .add("arrival_tolerance", &Options::arrival_tolerance_steps,
@@ -155,22 +141,11 @@ void addMotionAndFrameOptions(OptionTable<CameraBridgeOptions>& table) {
                .unit("s")
                .atLeast(0))
       .add("tf_poll_period", &Options::tf_poll_period_s,
-           OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1))
-      .add("square_crop", &Options::square_crop,
-           OptionSpec("agents get the central square of the images (as trained); "
-                      "camera_info's principal point is moved to match"))
-      .add("min_valid_depth_fraction", &Options::min_valid_depth_fraction,
-           OptionSpec("a view with depth within the working range on less of its pixels is "
-                      "not used (UNAVAILABLE): a covered lens, a camera too close, depth in "
-                      "another unit")
-               .above(0)
-               .atMost(1))
-      .add("working_range_factor", &Options::working_range_factor,
-           OptionSpec("depth readings count within [radius / this, radius * this]").atLeast(1));
+           OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1));
 }
 
-// Episodes and what is estimated: the scene service, the network and the stopping rule.
-void addEstimateOptions(OptionTable<CameraBridgeOptions>& table) {
+// Episodes: the scene service and the network whose map is the estimate.
+void addEpisodeOptions(OptionTable<CameraBridgeOptions>& table) {
   using Options = CameraBridgeOptions;
   table
       .add("scene_service", &Options::scene_service,
@@ -179,19 +154,7 @@ void addEstimateOptions(OptionTable<CameraBridgeOptions>& table) {
       .add("model", &Options::model_path,
            OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
                       "else a multi-task network (.pt with its .json) whose occlusion map is "
-                      "the ESTIMATED occlusion"))
-      .add("occlusion_probability", &Options::occlusion_probability,
-           OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
-      .add("occlusion_threshold", &Options::occlusion_threshold_px,
-           OptionSpec("a view whose estimate is at or below this is clear").unit("px").atLeast(0))
-      .add("confirm_views", &Options::confirm_views,
-           OptionSpec("this many clear views in a row end the episode (terminated)").atLeast(1))
-      .add("clear_bounding_surfaces", &Options::clear_bounding_surfaces,
-           OptionSpec("estimated occlusion on a floor or wall (a large plane in the depth "
-                      "with nothing seen behind it) is cleared: such a surface hides nothing"))
-      .add("success_bonus", &Options::success_bonus,
-           OptionSpec("reward P when the episode ends: R_t = (L_{t-1} - L_t) / max(1, L_0) + P"))
-      .add("step_penalty", &Options::step_penalty, OptionSpec("reward P of the other steps"));
+                      "the ESTIMATED occlusion"));
 }
 
 }  // namespace
@@ -199,9 +162,13 @@ void addEstimateOptions(OptionTable<CameraBridgeOptions>& table) {
 const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
   static const auto table = [] {
     OptionTable<CameraBridgeOptions> made;
-    addSphereOptions(made);
-    addMotionAndFrameOptions(made);
-    addEstimateOptions(made);
+    addFrameOptions(made);
+    made.include(cameraEnvironmentOptionTable(),
+                 [](CameraBridgeOptions& options) -> CameraEnvironmentOptions& {
+                   return options.environment;
+                 });
+    addMotionOptions(made);
+    addEpisodeOptions(made);
     return made;
   }();
   return table;
@@ -217,27 +184,9 @@ void CameraBridgeOptions::validate() const {
 }
 
 ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options) {
-  return {options.arrival_tolerance_steps * options.radius_m * options.step_size_rad,
-          options.arrival_tolerance_steps * options.step_size_rad};
-}
-
-CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& options) {
-  CameraEnvironmentOptions core;
-  core.radius_m = options.radius_m;
-  core.elevation_limit_rad = options.elevation_limit_rad;
-  core.step_size_rad = options.step_size_rad;
-  core.normalize_action = options.normalize_action;
-  core.square_crop = options.square_crop;
-  core.min_valid_depth_fraction = options.min_valid_depth_fraction;
-  core.working_range_factor = options.working_range_factor;
-  core.occlusion_probability = options.occlusion_probability;
-  core.occlusion_threshold_px = options.occlusion_threshold_px;
-  core.confirm_views = options.confirm_views;
-  core.clear_bounding_surfaces = options.clear_bounding_surfaces;
-  core.success_bonus = options.success_bonus;
-  core.step_penalty = options.step_penalty;
-  core.max_steps = options.max_steps;
-  return core;
+  const CameraEnvironmentOptions& sphere = options.environment;
+  return {options.arrival_tolerance_steps * sphere.radius_m * sphere.step_size_rad,
+          options.arrival_tolerance_steps * sphere.step_size_rad};
 }
 
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node) {
@@ -264,7 +213,7 @@ std::unique_ptr<ViewOcclusionEstimator> estimatorFor(const CameraBridgeOptions& 
   try {
     return learning::makeBridgeEstimator(
         std::make_shared<learning::LoadedModel>(learning::loadModel(options.model_path)),
-        cameraEnvironmentOptions(options));
+        options.environment);
   } catch (const std::exception& error) {
     throw ParameterError("parameter ~model: " + std::string(error.what()));
   }
@@ -277,9 +226,9 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
     : options_((options.validate(), options)),
       node_(std::move(node)),
       tf_(tf),
-      sphere_(options.radius_m, options.elevation_limit_rad),
+      sphere_(options.environment.radius_m, options.environment.elevation_limit_rad),
       estimator_(estimatorFor(options)),
-      environment_(cameraEnvironmentOptions(options), *this, estimator_.get()),
+      environment_(options.environment, *this, estimator_.get()),
       rgb_subscriber_(node_, names::kRgbImageTopic, 5),
       depth_subscriber_(node_, names::kDepthImageTopic, 5),
       info_subscriber_(node_, names::kRgbCameraInfoTopic, 5),
@@ -534,7 +483,7 @@ void CameraBridge::fillObservation(const StepResult& result, CameraObservation& 
   fillImage(result.observation->depth, header, observation.depth);
   observation.camera_info = *taken_frame_.info;
   observation.camera_info.header = header;
-  if (options_.square_crop) {
+  if (options_.environment.square_crop) {
     // The crop moves the principal point; the projection keeps its focal lengths.
     const cv::Rect& crop = environment_.cropRegion();
     observation.camera_info.width = crop.width;
@@ -580,7 +529,8 @@ void CameraBridge::noteStepTiming(double overhead_s, double robot_s, double fram
       << "; depth in the working range on " << percent(median(valid_depth_fractions_))
       << " of the view (lowest "
       << percent(*std::min_element(valid_depth_fractions_.begin(), valid_depth_fractions_.end()))
-      << ", ~min_valid_depth_fraction " << percent(options_.min_valid_depth_fraction) << ")");
+      << ", ~min_valid_depth_fraction " << percent(options_.environment.min_valid_depth_fraction)
+      << ")");
   valid_depth_fractions_.clear();
   overhead_times_s_.clear();
   robot_times_s_.clear();

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
@@ -164,6 +165,32 @@ TEST(CameraEnvironment, CropsToTheCentralSquareAndRefusesBlindViews) {
   bad.start_elevation_rad = 2.0;
   EXPECT_THROW(bridge.reset(0, bad), InvalidArgumentError);
   EXPECT_EQ(bridge.episodeRule().stepIndex(), 1);
+}
+
+TEST(CameraEnvironment, RefusesOptionsOutsideTheirRangesByName) {
+  FixedCamera camera;
+  const auto refused = [&camera](auto change, const std::string& name) {
+    CameraEnvironmentOptions options;
+    change(options);
+    try {
+      CameraEnvironment bridge(options, camera, nullptr);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_NE(std::string(error.what()).find(name), std::string::npos) << error.what();
+    }
+  };
+  refused([](CameraEnvironmentOptions& o) { o.step_size_rad = 0.0; }, "step_size");
+  refused([](CameraEnvironmentOptions& o) { o.radius_m = -1.0; }, "radius");
+  refused([](CameraEnvironmentOptions& o) { o.elevation_limit_rad = 1.6; }, "elevation_limit");
+  refused([](CameraEnvironmentOptions& o) { o.min_valid_depth_fraction = 0.0; },
+          "min_valid_depth_fraction");
+  refused([](CameraEnvironmentOptions& o) { o.working_range_factor = 0.9; },
+          "working_range_factor");
+  refused([](CameraEnvironmentOptions& o) { o.confirm_views = 0; }, "confirm_views");
+  refused([](CameraEnvironmentOptions& o) { o.occlusion_probability = 1.0; },
+          "occlusion_probability");
+  refused([](CameraEnvironmentOptions& o) { o.max_steps = 0; }, "max_steps");
+  EXPECT_NO_THROW(CameraEnvironment(CameraEnvironmentOptions(), camera, nullptr));
 }
 
 }  // namespace

@@ -21,43 +21,39 @@ TEST(CameraBridgeArrivalTolerance, IsAFractionOfTheStepAtTheWorkingRadius) {
   EXPECT_NEAR(tolerance.position_m, 0.02, 1e-12);
   EXPECT_NEAR(tolerance.angle_rad, 0.005, 1e-12);
   // An arm at 0.6 m: the step is 3 cm, the tolerance 3 mm (it was 1 cm, a third of the step).
-  options.radius_m = 0.6;
+  options.environment.radius_m = 0.6;
   tolerance = arrivalTolerance(options);
   EXPECT_NEAR(tolerance.position_m, 0.003, 1e-12);
   EXPECT_NEAR(tolerance.angle_rad, 0.005, 1e-12);  // a step turns the view by step_size anyway
   options.arrival_tolerance_steps = 0.5;
-  options.step_size_rad = 0.1;
+  options.environment.step_size_rad = 0.1;
   tolerance = arrivalTolerance(options);
   EXPECT_NEAR(tolerance.position_m, 0.03, 1e-12);
   EXPECT_NEAR(tolerance.angle_rad, 0.05, 1e-12);
 }
 
-TEST(CameraBridgeOptionsTest, TheCoresDefaultsAreTheNodes) {
-  // The in-process bridge (occlusion_agents --through-bridge) decides as the node does.
-  const CameraEnvironmentOptions node = cameraEnvironmentOptions(CameraBridgeOptions());
-  const CameraEnvironmentOptions core;
-  EXPECT_EQ(node.radius_m, core.radius_m);
-  EXPECT_EQ(node.elevation_limit_rad, core.elevation_limit_rad);
-  EXPECT_EQ(node.step_size_rad, core.step_size_rad);
-  EXPECT_EQ(node.normalize_action, core.normalize_action);
-  EXPECT_EQ(node.square_crop, core.square_crop);
-  EXPECT_EQ(node.min_valid_depth_fraction, core.min_valid_depth_fraction);
-  EXPECT_EQ(node.working_range_factor, core.working_range_factor);
-  EXPECT_EQ(node.occlusion_probability, core.occlusion_probability);
-  EXPECT_EQ(node.occlusion_threshold_px, core.occlusion_threshold_px);
-  EXPECT_EQ(node.confirm_views, core.confirm_views);
-  EXPECT_EQ(node.clear_bounding_surfaces, core.clear_bounding_surfaces);
-  EXPECT_EQ(node.success_bonus, core.success_bonus);
-  EXPECT_EQ(node.step_penalty, core.step_penalty);
-  EXPECT_EQ(node.max_steps, core.max_steps);
-  // A changed option reaches the core.
+TEST(CameraBridgeOptionsTest, TheCoresOptionsAreTheNodesByTheSameNames) {
+  // The in-process bridge (occlusion_agents --through-bridge) decides as the node does: the
+  // node's table holds the core's fields, names, specs and defaults.
+  const auto& core = cameraEnvironmentOptionTable();
+  const auto& node = cameraBridgeOptionTable();
+  const nlohmann::json node_defaults = node.toJson(CameraBridgeOptions());
+  const nlohmann::json core_defaults = core.toJson(CameraEnvironmentOptions());
+  ASSERT_GE(core.fields().size(), 14u);
+  for (const auto& field : core.fields()) {
+    const auto* same = node.find(field.key);
+    ASSERT_NE(same, nullptr) << field.key << " is not a parameter of the node";
+    EXPECT_EQ(same->spec.help(), field.spec.help()) << field.key;
+    EXPECT_EQ(node_defaults.at(field.key), core_defaults.at(field.key)) << field.key;
+  }
+  // A parameter set on the node reaches the core.
   CameraBridgeOptions changed;
-  changed.confirm_views = 3;
-  changed.occlusion_threshold_px = 16;
-  changed.clear_bounding_surfaces = false;
-  EXPECT_FALSE(cameraEnvironmentOptions(changed).clear_bounding_surfaces);
-  EXPECT_EQ(cameraEnvironmentOptions(changed).rule().confirm_views, 3);
-  EXPECT_EQ(cameraEnvironmentOptions(changed).rule().reward.success_threshold_pixels, 16);
+  node.set(changed, "confirm_views", 3);
+  node.set(changed, "occlusion_threshold", 16);
+  node.set(changed, "clear_bounding_surfaces", false);
+  EXPECT_FALSE(changed.environment.clear_bounding_surfaces);
+  EXPECT_EQ(changed.environment.rule().confirm_views, 3);
+  EXPECT_EQ(changed.environment.rule().reward.success_threshold_pixels, 16);
 }
 
 TEST(CameraBridgeOptionsTest, SafetyOptionsAreRefusedOutsideTheirRanges) {
@@ -74,11 +70,12 @@ TEST(CameraBridgeOptionsTest, SafetyOptionsAreRefusedOutsideTheirRanges) {
   refused([](CameraBridgeOptions& o) { o.arrival_tolerance_steps = 0.0; }, "arrival_tolerance");
   // More than half a step would take a frame nearer the start than the goal.
   refused([](CameraBridgeOptions& o) { o.arrival_tolerance_steps = 0.6; }, "arrival_tolerance");
-  refused([](CameraBridgeOptions& o) { o.min_valid_depth_fraction = 0.0; },
+  refused([](CameraBridgeOptions& o) { o.environment.min_valid_depth_fraction = 0.0; },
           "min_valid_depth_fraction");
-  refused([](CameraBridgeOptions& o) { o.min_valid_depth_fraction = 1.5; },
+  refused([](CameraBridgeOptions& o) { o.environment.min_valid_depth_fraction = 1.5; },
           "min_valid_depth_fraction");
-  refused([](CameraBridgeOptions& o) { o.working_range_factor = 0.5; }, "working_range_factor");
+  refused([](CameraBridgeOptions& o) { o.environment.working_range_factor = 0.5; },
+          "working_range_factor");
   refused([](CameraBridgeOptions& o) { o.settle_time_s = -0.1; }, "settle_time");
 }
 

@@ -169,12 +169,14 @@ TEST(CameraBridgeOptionsTest, BadValuesAreRefusedByName) {
     }
   };
   CameraBridgeOptions().validate();
-  refused([](CameraBridgeOptions& o) { o.radius_m = 0.0; }, "radius");
-  refused([](CameraBridgeOptions& o) { o.elevation_limit_rad = 2.0; }, "elevation_limit");
+  refused([](CameraBridgeOptions& o) { o.environment.radius_m = 0.0; }, "radius");
+  refused([](CameraBridgeOptions& o) { o.environment.elevation_limit_rad = 2.0; },
+          "elevation_limit");
   refused([](CameraBridgeOptions& o) { o.arrival_timeout_s = 0.0; }, "arrival_timeout");
   refused([](CameraBridgeOptions& o) { o.frame_timeout_s = -1.0; }, "frame_timeout");
-  refused([](CameraBridgeOptions& o) { o.occlusion_probability = 1.0; }, "occlusion_probability");
-  refused([](CameraBridgeOptions& o) { o.confirm_views = 0; }, "confirm_views");
+  refused([](CameraBridgeOptions& o) { o.environment.occlusion_probability = 1.0; },
+          "occlusion_probability");
+  refused([](CameraBridgeOptions& o) { o.environment.confirm_views = 0; }, "confirm_views");
   refused([](CameraBridgeOptions& o) { o.sphere_frame.clear(); }, "sphere_frame");
 }
 

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
+#include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/environment_interface.hpp"
 #include "occlusion_env/env/episode_rule.hpp"
 #include "occlusion_env/geometry/camera.hpp"
@@ -63,8 +64,9 @@ class ViewOcclusionEstimator {
                                 const CameraIntrinsics& intrinsics, cv::Mat& mask) = 0;
 };
 
-/// The bridge's options apart from ROS; the defaults are config/camera_bridge.yaml's (the ROS
-/// node's options convert to these: ros/camera_bridge.hpp).
+/// The bridge's options apart from ROS; the defaults are config/camera_bridge.yaml's. The ROS
+/// node's options hold these (ros/camera_bridge.hpp), under the names of
+/// cameraEnvironmentOptionTable().
 struct CameraEnvironmentOptions {
   double radius_m = 4.0;
   double elevation_limit_rad = 1.3962634016;  // 80 deg
@@ -89,7 +91,13 @@ struct CameraEnvironmentOptions {
   /// The episode rule: intersection-normalised (Z = the reset view's estimate, at least 1: the
   /// union of the silhouettes cannot be estimated), ended by confirm_views clear step views.
   EpisodeRuleOptions rule() const;
+  /// Throws InvalidArgumentError naming the first option outside its range (the table's).
+  void validate() const;
 };
+
+/// The declared options of CameraEnvironmentOptions, by the camera bridge's parameter names
+/// (~radius, ~confirm_views, ...: doc/PARAMETERS.md).
+const OptionTable<CameraEnvironmentOptions>& cameraEnvironmentOptionTable();
 
 /// The central square of a width x height image.
 cv::Rect centralSquare(int width, int height);
@@ -103,7 +111,7 @@ class CameraEnvironment : public EnvironmentInterface {
  public:
   /// `rig` and `estimator` must outlive it. Without an estimator (nullptr) the occlusion is
   /// UNAVAILABLE: no reward, and only max_steps ends an episode. Throws InvalidArgumentError for
-  /// bad options.
+  /// bad options (validate()).
   CameraEnvironment(const CameraEnvironmentOptions& options, CameraRig& rig,
                     ViewOcclusionEstimator* estimator);
 

@@ -44,14 +44,14 @@ namespace occlusion_env {
 
 /// Every option of the bridge, with the defaults config/camera_bridge.yaml documents.
 struct CameraBridgeOptions {
-  // The viewing sphere, in the simulator's convention (doc/CONVENTIONS.md).
+  // The viewing sphere's and the camera's frames, in the simulator's convention
+  // (doc/CONVENTIONS.md).
   std::string sphere_frame = "world";  // origin = the sphere's centre, z up, azimuth from +x
   std::string optical_frame;           // the camera's optical frame; "" = the images' frame_id
-  double radius_m = 4.0;
-  double elevation_limit_rad = 1.3962634016;  // 80 deg
-  double step_size_rad = 0.05;
-  bool normalize_action = true;
-  int max_steps = 50;
+
+  // What the bridge decides apart from ROS: the sphere, the steps, which views it uses, the
+  // stopping rule and the reward (the core's options, by the same parameter names).
+  CameraEnvironmentOptions environment;
 
   // Arrival and frames.
   double arrival_tolerance_steps = 0.1;  // the camera is there within this fraction of a step
@@ -60,25 +60,10 @@ struct CameraBridgeOptions {
   double settle_time_s = 0.0;            // frames stamped before arrival + this are not used
   double sync_slop_s = 0.02;             // RGB, depth and camera_info within this count as one
   double tf_poll_period_s = 0.002;       // how often tf is looked at while the robot moves
-  bool square_crop = true;               // agents get the central square, as in training
-
-  // Views the bridge trusts: at least this fraction of the (cropped) view has depth within the
-  // working range [radius / f, radius * f], f = working_range_factor.
-  double min_valid_depth_fraction = 0.02;
-  double working_range_factor = 10.0;
 
   // Episodes and what is estimated.
   std::string scene_service;  // "": none; else a Reset service called at each reset
   std::string model_path;     // "": no estimate; else a multi-task network model
-  // The stopping rule, chosen on validation scenes by occlusion_bridge_calibration (doc/
-  // CAMERA_BRIDGE.md): the network misses overlaps of a few pixels, so the estimate must stay
-  // clear for several views while the agent moves on.
-  double occlusion_probability = 0.1;       // a pixel is occluded above this probability
-  std::int64_t occlusion_threshold_px = 0;  // a view is clear at or below this estimate [px]
-  int confirm_views = 5;                    // this many clear views in a row end an episode
-  bool clear_bounding_surfaces = true;      // no occlusion on a floor or wall (see the core's)
-  double success_bonus = 5.0;  // the reward of the estimate: (L_{t-1} - L_t) / max(1, L_0) + P
-  double step_penalty = -0.2;
 
   /// Throws ParameterError naming the first bad option (the table's ranges, and a sphere_frame).
   void validate() const;
@@ -97,10 +82,6 @@ ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options);
 
 /// Reads every option from the node's private namespace; absent parameters keep their defaults.
 CameraBridgeOptions readCameraBridgeOptions(const ros::NodeHandle& private_node);
-
-/// The core's options of the bridge (env/camera_environment.hpp): its decision logic, apart from
-/// ROS.
-CameraEnvironmentOptions cameraEnvironmentOptions(const CameraBridgeOptions& options);
 
 /// The ROS side of the bridge: tf and the camera's topics are the rig of a CameraEnvironment
 /// (env/camera_environment.hpp), which decides everything else; its reset and step are served as
