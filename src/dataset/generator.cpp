@@ -30,6 +30,7 @@ namespace fs = std::filesystem;
 
 constexpr int kFormatVersion = 1;
 constexpr std::uint64_t kMoveStreamSalt = 0x6d6f7665736d6f76ull;  // the moves' own random stream
+constexpr std::uint64_t kFirstElevationSalt = 0x6669727374656c65ull;  // frame 0's elevation
 
 std::string spaceLeft(const fs::path& path) {
   std::error_code error;
@@ -150,7 +151,15 @@ std::vector<SphericalPose> framePoses(const Environment& environment, const Sphe
                                       std::uint64_t seed, const DatasetOptions& options) {
   RandomSource moves(seed ^ kMoveStreamSalt);
   const double step = environment.options().step_size_rad;
-  std::vector<SphericalPose> poses = {start};
+  SphericalPose first = start;
+  if (options.first_elevation_max_rad > 0.0 || options.first_elevation_min_rad < 0.0) {
+    RandomSource elevation(seed ^ kFirstElevationSalt);
+    first = environment.camera().moved(
+        start, 0.0,
+        elevation.uniform(options.first_elevation_min_rad, options.first_elevation_max_rad) -
+            start.elevation_rad);
+  }
+  std::vector<SphericalPose> poses = {first};
   while (static_cast<int>(poses.size()) < options.frames) {
     const double direction = moves.uniform(0.0, 2.0 * M_PI);
     const int steps =
@@ -295,7 +304,9 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
        "theta = atan2(d_elevation, d_azimuth) [rad], 0 = +azimuth, pi/2 = up; stored as "
        "(sin, cos); a horizontal image flip maps (sin, cos) to (sin, -cos)"},
       {"frame_moves",
-       "frame 0: the scene's start view; each next frame: 1..max_move_steps steps (uniform) "
+       "frame 0: the scene's start view (with first_elevation_min/max: at an elevation drawn "
+       "uniformly in that range from the scene's seed); each next frame: 1..max_move_steps "
+       "steps (uniform) "
        "of step_size in one direction ~ U[0, 2 pi) from the previous frame (elevation clamped)"},
       {"model_split",
        {{"split", "train"}, {"train_models", train_models}, {"test_models_excluded", test_models}}},
@@ -343,6 +354,17 @@ const OptionTable<DatasetOptions>& datasetOptionTable() {
              OptionSpec("objects per scene").range(2, kMaxSceneObjects).flag("--objects"))
         .add("max_move_steps", &O::max_move_steps,
              OptionSpec("longest move between frames, in steps").range(1, 100))
+        .add("first_elevation_min_rad", &O::first_elevation_min_rad,
+             OptionSpec("frame 0's elevation is drawn per scene in [this, first-elevation-max]; "
+                        "the scene is still drawn at its start view")
+                 .unit("rad")
+                 .range(-M_PI / 2.0, M_PI / 2.0)
+                 .flag("--first-elevation-min"))
+        .add("first_elevation_max_rad", &O::first_elevation_max_rad,
+             OptionSpec("see first-elevation-min; 0 and 0: frame 0 is the start view")
+                 .unit("rad")
+                 .range(-M_PI / 2.0, M_PI / 2.0)
+                 .flag("--first-elevation-max"))
         .add("oracle_labels", &O::oracle_labels,
              OptionSpec("the oracle's labels (leaving them out is much faster)")
                  .negatedFlag("--no-oracle"));
@@ -371,12 +393,22 @@ nlohmann::json DatasetOptions::definingJson() const {
   if (!world) json.erase("world");
   if (!depth_sensor) json.erase("depth_sensor");
   if (!randomize) json.erase("randomize");
+  // Left out at 0: a set made before they existed keeps its options.
+  if (first_elevation_min_rad == 0.0 && first_elevation_max_rad == 0.0) {
+    json.erase("first_elevation_min_rad");
+    json.erase("first_elevation_max_rad");
+  }
   if (randomize) json["camera_randomization"] = cameraRandomizationJson(EnvironmentOptions());
   return json;
 }
 
 void DatasetOptions::validate() const {
   datasetOptionTable().check(*this);
+  if (first_elevation_min_rad > first_elevation_max_rad) {
+    throw InvalidArgumentError("first_elevation_min (" + std::to_string(first_elevation_min_rad) +
+                               ") must not exceed first_elevation_max (" +
+                               std::to_string(first_elevation_max_rad) + ")");
+  }
   if (first_seed + static_cast<std::uint64_t>(scenes) > kFirstTestSeed) {
     throw InvalidArgumentError(
         "training scenes must use seeds below " + std::to_string(kFirstTestSeed) +

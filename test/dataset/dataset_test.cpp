@@ -251,6 +251,49 @@ TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
   fs::remove_all(dir);
 }
 
+TEST(DatasetTest, FirstElevationIsDrawnPerSceneOverTheSameScenesAndPassesTheAudit) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("occlusion_env_elevated_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  DatasetOptions options = tinyOptions();
+  options.scenes = 4;
+  options.frames = 3;
+  options.oracle_labels = false;
+  options.first_elevation_min_rad = 0.6;
+  options.first_elevation_max_rad = 1.2;
+  generateDataset(dir.string(), options);
+  const nlohmann::json manifest = readJson(dir / "dataset.json");
+  EXPECT_EQ(manifest.at("options").at("first_elevation_min_rad"), 0.6);
+  std::set<double> first_elevations;
+  for (int scene = 0; scene < options.scenes; ++scene) {
+    const nlohmann::json labels = readJson(dir / "train" / idName(scene) / "scene_labels.json");
+    const double first = labels.at("0").at("elevation_rad").get<double>();
+    EXPECT_GE(first, 0.6);
+    EXPECT_LT(first, 1.2);
+    first_elevations.insert(first);
+  }
+  EXPECT_EQ(first_elevations.size(), 4u);  // drawn per scene
+  // The scene's start view stays where it was drawn: frame 0 keeps the plain set's azimuth.
+  const fs::path plain_dir = dir.string() + "_plain";
+  DatasetOptions plain_options = options;
+  plain_options.first_elevation_min_rad = plain_options.first_elevation_max_rad = 0.0;
+  generateDataset(plain_dir.string(), plain_options);
+  for (int scene = 0; scene < options.scenes; ++scene) {
+    const nlohmann::json plain =
+        readJson(plain_dir / "train" / idName(scene) / "scene_labels.json");
+    const nlohmann::json raised = readJson(dir / "train" / idName(scene) / "scene_labels.json");
+    EXPECT_EQ(plain.at("0").at("elevation_rad").get<double>(), 0.0);
+    EXPECT_EQ(raised.at("0").at("azimuth_rad"), plain.at("0").at("azimuth_rad"));
+  }
+  const AuditReport audit = auditDataset(dir.string(), 12);
+  EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());
+  // A range upside down is refused.
+  options.first_elevation_min_rad = 1.3;
+  EXPECT_THROW(generateDataset(dir.string() + "_bad", options), InvalidArgumentError);
+  fs::remove_all(dir);
+  fs::remove_all(plain_dir);
+}
+
 }  // namespace
 }  // namespace dataset
 }  // namespace occlusion_env

@@ -30,6 +30,11 @@ struct DatasetOptions {
   /// Between frames the camera takes 1..max_move_steps steps (uniform) of the environment's step
   /// size in one direction drawn uniformly from [0, 2 pi): a random walk of varying stride.
   int max_move_steps = 4;
+  /// Frame 0's elevation [rad], drawn per scene from its seed, uniformly in [min, max]; the walk
+  /// goes on from there. The scene is drawn at its start view (elevation 0, where it holds
+  /// occlusion) as ever, so the same scenes are seen from higher up. 0, 0: the start view itself.
+  double first_elevation_min_rad = 0.0;
+  double first_elevation_max_rad = 0.0;
   bool oracle_labels = true;
   /// Around the targets and what the camera reports (the environment's `world` and
   /// `depth_sensor`, `random` included); unset: void and ideal, or random with `randomize`.
