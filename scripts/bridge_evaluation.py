@@ -47,6 +47,12 @@ def oracle_steps(path, seeds):
     return [rows[s] for s in seeds]
 
 
+# The networks bridge_evaluation.launch uses when none is given (its `model` and `agent_model`
+# defaults; test_scripts.py checks that the launch file names them).
+DEFAULT_MODEL = "models/multitask_unet64_bridge.pt"
+DEFAULT_AGENT_MODEL = "models/multitask_unet64_camera_agent.pt"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scenes", default=os.path.join(ROOT, "config/scenes/test_sweethome3d.yaml"))
@@ -155,9 +161,11 @@ def main():
     summary = {"scenes": args.scenes, "episodes": len(seeds), "world": args.world,
                "depth_sensor": args.depth_sensor,
                "model": os.path.relpath(os.path.abspath(args.model), ROOT) if args.model
-               else "shipped default",
+               else DEFAULT_MODEL,
+               "model_is_default": not args.model,
                "agent_model": os.path.relpath(os.path.abspath(args.agent_model), ROOT)
-               if args.agent_model else "shipped default",
+               if args.agent_model else DEFAULT_AGENT_MODEL,
+               "agent_model_is_default": not args.agent_model,
                "truly_clear": clear, "verdict_agrees": agree,
                "mean_steps": statistics.mean(steps), "oracle_mean_steps": statistics.mean(oracle),
                "steps_over_oracle": statistics.mean(steps) / statistics.mean(oracle)}

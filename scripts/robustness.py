@@ -235,9 +235,12 @@ def bridge_commands(paths):
     for path in paths:
         with open(os.path.join(path, "bridge_summary.json")) as f:
             b = json.load(f)
-        model = "" if b["model"] == "shipped default" else " --model " + b["model"]
+        # Summaries before 2026-11-26 said "shipped default"; later ones name the default and
+        # say that it was one.
+        default = b["model"] == "shipped default" or b.get("model_is_default", False)
+        model = "" if default else " --model " + b["model"]
         agent = agent_network(b)
-        if agent != "shipped default":
+        if agent != "shipped default" and not b.get("agent_model_is_default", False):
             model += " --agent-model " + agent
         commands.append("scripts/bridge_evaluation.py --world %s --depth-sensor %s%s --out %s"
                         % (b["world"], b["depth_sensor"], model, os.path.relpath(path, ROOT)))

@@ -69,6 +69,10 @@ std::string cameraModelPath() {
   return packageShareDirectory() + "/models/multitask_unet64_camera.pt";
 }
 
+std::string bridgeModelPath() {
+  return packageShareDirectory() + "/models/multitask_unet64_bridge.pt";
+}
+
 AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
                            const std::string& paper_label, const std::string& default_model_path,
                            std::function<std::unique_ptr<Agent>(const std::string&)> make) {

@@ -44,7 +44,7 @@ struct Arguments {
   bool clear_bounding_surfaces = occlusion_env::CameraEnvironmentOptions{}.clear_bounding_surfaces;
   int size = 256;
 
-  Arguments() : model(occlusion_env::learning::cameraModelPath()) {
+  Arguments() : model(occlusion_env::learning::bridgeModelPath()) {
     options.catalog.source = "sweethome3d";
     options.scene.categories = {"chair", "table"};
     options.scene.model_split = occlusion_env::ModelSplit::kTrain;

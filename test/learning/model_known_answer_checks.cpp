@@ -30,14 +30,14 @@ namespace occlusion_env {
 namespace learning {
 namespace {
 
-constexpr double kBridgeOcclusionProbability = 0.1;         // config/camera_bridge.yaml's default
+constexpr double kBridgeOcclusionProbability = 0.01;        // config/camera_bridge.yaml's default
 constexpr int kSize = 128;                                  // [px], the training frames' size
 constexpr double kFocalPx = kSize / (2.0 * 0.57735026919);  // 60 deg horizontal field of view
 
 std::shared_ptr<LoadedModel> shippedModel() {
   static const auto model = [] {
     const char* path = std::getenv("MODEL");
-    const std::string chosen = path && *path ? path : cameraModelPath();
+    const std::string chosen = path && *path ? path : bridgeModelPath();
     std::cout << "[checks] model " << chosen << "\n";
     return std::make_shared<LoadedModel>(loadModel(chosen));
   }();

@@ -109,13 +109,17 @@ if __name__ == "__main__":
     sys.exit(pytest.main([__file__]))
 
 
-def load_robustness():
+def load_script(name):
     import importlib.util
     spec = importlib.util.spec_from_file_location(
-        "robustness", os.path.join(ROOT, "scripts", "robustness.py"))
+        name, os.path.join(ROOT, "scripts", name + ".py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def load_robustness():
+    return load_script("robustness")
 
 
 def write_bridge_summary(folder, **fields):
@@ -148,6 +152,23 @@ def test_bridge_rows_name_both_networks_and_rerun_each_summary(tmp_path):
     assert "49 / 50 (98 %)" in rows[3]
     assert rows[4].startswith("| agent models/multitask_unet64_camera_agent.pt, "
                               "bridge models/multitask_unet64_camera.pt |")
+
+
+def test_bridge_summaries_name_the_launch_defaults_they_ran(tmp_path):
+    robustness = load_robustness()
+    bridge_evaluation = load_script("bridge_evaluation")
+    launch = open(os.path.join(ROOT, "launch", "bridge_evaluation.launch")).read()
+    for default in (bridge_evaluation.DEFAULT_MODEL, bridge_evaluation.DEFAULT_AGENT_MODEL):
+        assert "$(find occlusion_env)/" + default in launch, default
+    new = write_bridge_summary(tmp_path / "new", model=bridge_evaluation.DEFAULT_MODEL,
+                               model_is_default=True,
+                               agent_model=bridge_evaluation.DEFAULT_AGENT_MODEL,
+                               agent_model_is_default=True)
+    command = robustness.bridge_commands([new])[0]
+    assert "--model" not in command and "--agent-model" not in command
+    row = robustness.bridge_rows([new]).splitlines()[2]
+    assert row.startswith("| agent models/multitask_unet64_camera_agent.pt, "
+                          "bridge models/multitask_unet64_bridge.pt |")
 
 
 PPO_RATE = os.path.join(ROOT, "scripts", "ppo_rate.py")

@@ -37,9 +37,12 @@ class NetworkDirectionAgent : public Agent {
 /// The shipped model the learned agents use by default in the simulator (models/, doc/AGENTS.md):
 /// the network of the paper's tables, trained in the void with perfect depth.
 std::string defaultModelPath();
-/// The shipped model for a depth camera (the camera bridge's and its agents' default): the same
-/// weights, reading depth with its dropouts filled (depth_gaps filled, doc/TRAINING.md).
+/// The shipped model for a depth camera: the same weights, reading depth with its dropouts filled
+/// (depth_gaps filled, doc/TRAINING.md). The camera bridge's estimate was fine-tuned from it.
 std::string cameraModelPath();
+/// The camera bridge's default network, whose estimate ends an episode: the camera model
+/// fine-tuned on rooms seen from above (doc/TRAINING.md, "Views from above").
+std::string bridgeModelPath();
 
 /// A registry entry for an agent made from a model file: needs.model_file set, `make` given the
 /// file's path ("" default_model_path: the agent runs only when a path is given).
