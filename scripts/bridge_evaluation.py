@@ -63,6 +63,9 @@ def main():
     parser.add_argument("--model", default="",
                         help="the bridge's network, whose estimate ends an episode ('': the "
                         "shipped default)")
+    parser.add_argument("--occlusion-probability", type=float, default=None,
+                        help="the bridge's ~occlusion_probability (default: config/camera_bridge.yaml's, "
+                        "chosen for the default model)")
     parser.add_argument("--agent-model", default="",
                         help="the agent's network ('': the shipped default for an agent behind a "
                         "camera)")
@@ -97,6 +100,8 @@ def main():
         command.append("model:=" + os.path.abspath(args.model))
     if args.agent_model:
         command.append("agent_model:=" + os.path.abspath(args.agent_model))
+    if args.occlusion_probability is not None:
+        command.append("occlusion_probability:=%r" % args.occlusion_probability)
     log = open(os.path.join(args.out, "roslaunch.log"), "w")
     print("bridge_evaluation:", " ".join(command), file=sys.stderr, flush=True)
     launch = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
@@ -166,6 +171,7 @@ def main():
                "agent_model": os.path.relpath(os.path.abspath(args.agent_model), ROOT)
                if args.agent_model else DEFAULT_AGENT_MODEL,
                "agent_model_is_default": not args.agent_model,
+               "occlusion_probability": args.occlusion_probability,  # None: the config's
                "truly_clear": clear, "verdict_agrees": agree,
                "mean_steps": statistics.mean(steps), "oracle_mean_steps": statistics.mean(oracle),
                "steps_over_oracle": statistics.mean(steps) / statistics.mean(oracle)}

@@ -242,6 +242,8 @@ def bridge_commands(paths):
         agent = agent_network(b)
         if agent != "shipped default" and not b.get("agent_model_is_default", False):
             model += " --agent-model " + agent
+        if b.get("occlusion_probability") is not None:
+            model += " --occlusion-probability %r" % b["occlusion_probability"]
         commands.append("scripts/bridge_evaluation.py --world %s --depth-sensor %s%s --out %s"
                         % (b["world"], b["depth_sensor"], model, os.path.relpath(path, ROOT)))
     return commands

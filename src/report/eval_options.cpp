@@ -68,7 +68,13 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "ended (OUT/<set>_bridge_*)"))
       .add("bridge_clear_surfaces", &O::bridge_clear_surfaces,
            OptionSpec("with --through-bridge: the bridge clears estimated occlusion on a floor "
-                      "or wall (its ~clear_bounding_surfaces)"));
+                      "or wall (its ~clear_bounding_surfaces)"))
+      .add("bridge_probability", &O::bridge_probability,
+           OptionSpec("with --through-bridge: a pixel counts as occluded above this probability "
+                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
+                      "was the camera model's)")
+               .above(0)
+               .below(1));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
 }

@@ -90,6 +90,7 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 /// bridge's table in OUT/<set>_bridge.md, then the usual summary of those episodes.
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   plan.bridge.clear_bounding_surfaces = cl.bridge_clear_surfaces;
+  plan.bridge.occlusion_probability = cl.bridge_probability;
   const auto estimator = learning::makeBridgeEstimator(
       std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
   plan.bridge_estimator = estimator.get();
@@ -110,7 +111,8 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   std::ostringstream markdown;
   markdown << "Scene set `" << plan.scenes.name << "` through the camera bridge's logic in front "
            << "of the simulator, network `" << cl.through_bridge << "`, "
-           << plan.bridge.confirm_views << " confirming views; truly clear: the simulator's L <= "
+           << plan.bridge.confirm_views << " confirming views at probability "
+           << plan.bridge.occlusion_probability << "; truly clear: the simulator's L <= "
            << plan.environment.reward.success_threshold_pixels << " px where the episode ended.\n\n"
            << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);
   std::ofstream((fs::path(cl.out) / (name + ".md")).string()) << markdown.str();

@@ -169,6 +169,14 @@ def test_bridge_summaries_name_the_launch_defaults_they_ran(tmp_path):
     row = robustness.bridge_rows([new]).splitlines()[2]
     assert row.startswith("| agent models/multitask_unet64_camera_agent.pt, "
                           "bridge models/multitask_unet64_bridge.pt |")
+    # A probability given on the command line is rerun with it.
+    camera = write_bridge_summary(tmp_path / "camera", model="models/multitask_unet64_camera.pt",
+                                  model_is_default=False, occlusion_probability=0.1,
+                                  agent_model=bridge_evaluation.DEFAULT_AGENT_MODEL,
+                                  agent_model_is_default=True)
+    command = robustness.bridge_commands([camera])[0]
+    assert "--model models/multitask_unet64_camera.pt --occlusion-probability 0.1 " in command
+    assert "--agent-model" not in command
 
 
 PPO_RATE = os.path.join(ROOT, "scripts", "ppo_rate.py")

@@ -46,6 +46,8 @@ struct EvalOptions {
   std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
   // The bridge's clear_bounding_surfaces, its default the bridge's.
   bool bridge_clear_surfaces = CameraEnvironmentOptions{}.clear_bounding_surfaces;
+  // The bridge's occlusion_probability, its default the bridge's.
+  double bridge_probability = CameraEnvironmentOptions{}.occlusion_probability;
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
