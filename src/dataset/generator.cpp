@@ -96,6 +96,7 @@ EnvironmentOptions environmentOptionsOf(const nlohmann::json& defining) {
   options.scene.categories = defining.at("categories").get<std::vector<std::string>>();
   options.scene.num_objects = defining.at("num_objects").get<int>();
   options.scene.model_split = parseModelSplit(defining.at("model_split").get<std::string>());
+  options.max_scene_attempts = defining.value("max_scene_attempts", options.max_scene_attempts);
   if (defining.contains("camera_randomization")) {
     environmentOptionTable().applyJson(defining.at("camera_randomization"), options);
   }
@@ -365,6 +366,10 @@ const OptionTable<DatasetOptions>& datasetOptionTable() {
                  .unit("rad")
                  .range(-M_PI / 2.0, M_PI / 2.0)
                  .flag("--first-elevation-max"))
+        .add("max_scene_attempts", &O::max_scene_attempts,
+             OptionSpec("draws of a seed's scene until its start view shows occlusion; a seed "
+                        "that needs more stops the run")
+                 .range(1, 100000))
         .add("oracle_labels", &O::oracle_labels,
              OptionSpec("the oracle's labels (leaving them out is much faster)")
                  .negatedFlag("--no-oracle"));
@@ -393,7 +398,10 @@ nlohmann::json DatasetOptions::definingJson() const {
   if (!world) json.erase("world");
   if (!depth_sensor) json.erase("depth_sensor");
   if (!randomize) json.erase("randomize");
-  // Left out at 0: a set made before they existed keeps its options.
+  // Left out at their defaults: a set made before they existed keeps its options.
+  if (max_scene_attempts == EnvironmentOptions().max_scene_attempts) {
+    json.erase("max_scene_attempts");
+  }
   if (first_elevation_min_rad == 0.0 && first_elevation_max_rad == 0.0) {
     json.erase("first_elevation_min_rad");
     json.erase("first_elevation_max_rad");

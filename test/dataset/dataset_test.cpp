@@ -12,6 +12,7 @@
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"
+#include "occlusion_env/dataset/scene_writer.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 
@@ -292,6 +293,17 @@ TEST(DatasetTest, FirstElevationIsDrawnPerSceneOverTheSameScenesAndPassesTheAudi
   EXPECT_THROW(generateDataset(dir.string() + "_bad", options), InvalidArgumentError);
   fs::remove_all(dir);
   fs::remove_all(plain_dir);
+}
+
+TEST(DatasetTest, MaxSceneAttemptsReachesTheEnvironmentAndTheManifestOnlyWhenSet) {
+  DatasetOptions options = tinyOptions();
+  EXPECT_EQ(options.max_scene_attempts, EnvironmentOptions().max_scene_attempts);
+  EXPECT_FALSE(options.definingJson().contains("max_scene_attempts"));  // old sets keep theirs
+  options.max_scene_attempts = 60;  // a seed whose scene needs more draws than the default
+  EXPECT_EQ(options.definingJson().at("max_scene_attempts"), 60);
+  EXPECT_EQ(environmentOptionsFor(options).max_scene_attempts, 60);  // the audit's too
+  options.max_scene_attempts = 0;
+  EXPECT_THROW(options.validate(), InvalidArgumentError);
 }
 
 }  // namespace

@@ -35,6 +35,9 @@ struct DatasetOptions {
   /// occlusion) as ever, so the same scenes are seen from higher up. 0, 0: the start view itself.
   double first_elevation_min_rad = 0.0;
   double first_elevation_max_rad = 0.0;
+  /// Draws of a seed's scene until its start view shows occlusion (EnvironmentOptions'); a seed
+  /// that needs more stops the run, naming it.
+  int max_scene_attempts = 20;
   bool oracle_labels = true;
   /// Around the targets and what the camera reports (the environment's `world` and
   /// `depth_sensor`, `random` included); unset: void and ideal, or random with `randomize`.
