@@ -101,74 +101,52 @@ void checkCameraInfo(const sensor_msgs::CameraInfo& info, int width, int height,
 // Options
 // ---------------------------------------------------------------------------------------------
 
-namespace {
-
-// The viewing sphere's and the camera's frames.
-void addFrameOptions(OptionTable<CameraBridgeOptions>& table) {
-  using Options = CameraBridgeOptions;
-  table
-      .add("sphere_frame", &Options::sphere_frame,
-           OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
-                      "about its z from its x, elevation above its xy plane; not empty"))
-      .add("optical_frame", &Options::optical_frame,
-           OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"));
-}
-
-// When the robot has arrived and which frame is the view's.
-void addMotionOptions(OptionTable<CameraBridgeOptions>& table) {
-  using Options = CameraBridgeOptions;
-  table
-      .add("arrival_tolerance", &Options::arrival_tolerance_steps,
-           OptionSpec("the camera has arrived when tf shows it within this fraction of a step "
-                      "of the goal: arrival_tolerance * radius * step_size in position, "
-                      "arrival_tolerance * step_size in orientation")
-               .unit("steps")
-               .above(0)
-               .atMost(0.5))
-      .add("arrival_timeout", &Options::arrival_timeout_s,
-           OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
-      .add("frame_timeout", &Options::frame_timeout_s,
-           OptionSpec("no frame this long after arrival + settle_time fails (UNAVAILABLE)")
-               .unit("s")
-               .above(0))
-      .add("settle_time", &Options::settle_time_s,
-           OptionSpec("wait after arrival: frames stamped less than this after it are not "
-                      "used (motion blur, a robot that rings after it stops)")
-               .unit("s")
-               .atLeast(0))
-      .add("sync_slop", &Options::sync_slop_s,
-           OptionSpec("RGB, depth and camera_info stamped within this are one frame")
-               .unit("s")
-               .atLeast(0))
-      .add("tf_poll_period", &Options::tf_poll_period_s,
-           OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1));
-}
-
-// Episodes: the scene service and the network whose map is the estimate.
-void addEpisodeOptions(OptionTable<CameraBridgeOptions>& table) {
-  using Options = CameraBridgeOptions;
-  table
-      .add("scene_service", &Options::scene_service,
-           OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
-                      "scene at every reset"))
-      .add("model", &Options::model_path,
-           OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
-                      "else a multi-task network (.pt with its .json) whose occlusion map is "
-                      "the ESTIMATED occlusion"));
-}
-
-}  // namespace
-
 const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
+  using Options = CameraBridgeOptions;
   static const auto table = [] {
-    OptionTable<CameraBridgeOptions> made;
-    addFrameOptions(made);
+    OptionTable<Options> made;
+    // The viewing sphere's and the camera's frames.
+    made.add("sphere_frame", &Options::sphere_frame,
+             OptionSpec("frame at the sphere's centre (the objects' middle), z up: azimuth "
+                        "about its z from its x, elevation above its xy plane; not empty"))
+        .add("optical_frame", &Options::optical_frame,
+             OptionSpec("the camera's optical frame (z forward); \"\" = the images' frame_id"));
+    // What the core decides: the sphere, the steps, the views it uses, the stopping rule.
     made.include(cameraEnvironmentOptionTable(),
-                 [](CameraBridgeOptions& options) -> CameraEnvironmentOptions& {
-                   return options.environment;
-                 });
-    addMotionOptions(made);
-    addEpisodeOptions(made);
+                 [](Options& options) -> CameraEnvironmentOptions& { return options.environment; });
+    // When the robot has arrived and which frame is the view's.
+    made.add("arrival_tolerance", &Options::arrival_tolerance_steps,
+             OptionSpec("the camera has arrived when tf shows it within this fraction of a step "
+                        "of the goal: arrival_tolerance * radius * step_size in position, "
+                        "arrival_tolerance * step_size in orientation")
+                 .unit("steps")
+                 .above(0)
+                 .atMost(0.5))
+        .add("arrival_timeout", &Options::arrival_timeout_s,
+             OptionSpec("a move that takes longer fails (status UNAVAILABLE)").unit("s").above(0))
+        .add("frame_timeout", &Options::frame_timeout_s,
+             OptionSpec("no frame this long after arrival + settle_time fails (UNAVAILABLE)")
+                 .unit("s")
+                 .above(0))
+        .add("settle_time", &Options::settle_time_s,
+             OptionSpec("wait after arrival: frames stamped less than this after it are not "
+                        "used (motion blur, a robot that rings after it stops)")
+                 .unit("s")
+                 .atLeast(0))
+        .add("sync_slop", &Options::sync_slop_s,
+             OptionSpec("RGB, depth and camera_info stamped within this are one frame")
+                 .unit("s")
+                 .atLeast(0))
+        .add("tf_poll_period", &Options::tf_poll_period_s,
+             OptionSpec("how often tf is read while the robot moves").unit("s").above(0).atMost(1));
+    // Episodes: the scene service and the network whose map is the estimate.
+    made.add("scene_service", &Options::scene_service,
+             OptionSpec("\"\": none; else an occlusion_env/Reset service that arranges the "
+                        "scene at every reset"))
+        .add("model", &Options::model_path,
+             OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
+                        "else a multi-task network (.pt with its .json) whose occlusion map is "
+                        "the ESTIMATED occlusion"));
     return made;
   }();
   return table;

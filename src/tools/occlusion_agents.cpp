@@ -62,24 +62,9 @@ const OptionTable<Arguments>& argumentTable() {
                OptionSpec("\"\": run on the simulator; else run through the camera bridge's "
                           "logic in front of it, this network model estimating the occlusion "
                           "(the simulator's truth scores where each episode ended)"))
-          .add(
-              "confirm_views", [](Arguments& a) -> int& { return a.bridge.confirm_views; },
-              OptionSpec("with --through-bridge: clear views in a row that end an episode")
-                  .atLeast(1))
-          .add(
-              "occlusion_probability",
-              [](Arguments& a) -> double& { return a.bridge.occlusion_probability; },
-              OptionSpec("with --through-bridge: a pixel is occluded above this probability")
-                  .above(0)
-                  .below(1))
           .add("millimetre_depth", &Arguments::millimetre_depth,
                OptionSpec("with --through-bridge: depth rounded to millimetres, as 16UC1 "
                           "cameras send it"))
-          .add(
-              "clear_bounding_surfaces",
-              [](Arguments& a) -> bool& { return a.bridge.clear_bounding_surfaces; },
-              OptionSpec("with --through-bridge: estimated occlusion on a floor or wall is "
-                         "cleared"))
           .add(
               "agents_markdown", &Arguments::agents_markdown,
               OptionSpec("print the registry's agents as doc/AGENTS.md's Markdown table and exit"));
@@ -263,9 +248,10 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, argumentTable(), args, {"model", "size"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"gradient_method", "world", "depth_sensor"});
-  tools::addOptionFlags(app, argumentTable(), args,
-                        {"through_bridge", "confirm_views", "occlusion_probability",
-                         "millimetre_depth", "clear_bounding_surfaces"});
+  // With --through-bridge: the bridge's own options (its parameters' names and ranges).
+  tools::addOptionFlags(app, argumentTable(), args, {"through_bridge", "millimetre_depth"});
+  tools::addOptionFlags(app, occlusion_env::cameraEnvironmentOptionTable(), args.bridge,
+                        {"confirm_views", "occlusion_probability", "clear_bounding_surfaces"});
   tools::addOptionFlags(app, argumentTable(), args, {"agents_markdown"});
   app.footer(agentList(registry));
   return tools::parseAndRun(app, argc, argv, [&] { return run(args, registry); });
