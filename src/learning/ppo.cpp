@@ -85,7 +85,8 @@ void addRecordOptions(OptionTable<PpoOptions>& table) {
                .choices({"union", "intersection", "none"}))
       .add("seed", &O::seed, OptionSpec("initial weights, actions and training seeds"))
       .add("threads", &O::threads,
-           OptionSpec("libtorch threads; 0 = all cores (1: two stall when the machine is shared)")
+           OptionSpec("libtorch threads; 0 = all cores (1: each environment's thread encodes its "
+                      "own observation; two stall when the machine is shared)")
                .range(0, 256))
       .add("checkpoint_every", &O::checkpoint_every,
            OptionSpec("updates between checkpoints").range(1, 1e6));
@@ -249,6 +250,12 @@ class PpoTrainer {
     last_moves_.assign(count_, Action{});
     scratch_.resize(count_);
     episodes_.resize(count_);
+    features_ = torch::zeros({count_, policy_->backbone()->config().bottleneckChannels()});
+    // One libtorch thread (the default): each environment's thread encodes its own observation
+    // right after its step, so the two cores encode at once (a batch of one on one thread costs
+    // what a batch of two does per frame, measured). With more threads, libtorch's own pool
+    // does it on the trainer's thread, as one batch.
+    encode_on_environment_threads_ = options_.threads == 1;
     environments_ = std::make_unique<VectorEnvironment>(
         count_, factory, [this](int i, const StepResult& result) { observe(i, result); });
   }
@@ -260,7 +267,7 @@ class PpoTrainer {
     rollout.allocate(steps_per_env * count_, feature_size, input_format_.size, options_.fine_tune);
     for (int i = 0; i < count_; ++i) environments_->start(i, resetRequest(i));
     waitFor({0, count_});
-    features_ = encode(0, count_);
+    encodeInto({0, count_});
 
     const auto start = Clock::now();
     const std::int64_t start_steps = progress_.env_steps;
@@ -499,6 +506,10 @@ class PpoTrainer {
                       scratch_[i], inputs_.data_ptr<float>() + i * plane);
     writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
                   rig_.data_ptr<float>() + i * kRigInputs);
+    if (encode_on_environment_threads_) {
+      torch::NoGradGuard no_grad;  // grad mode is per thread
+      features_.slice(0, i, i + 1).copy_(policy_->features(inputs_.slice(0, i, i + 1)));
+    }
   }
 
   // The encoder's features of the observations of environments [first, last). With overlap a
@@ -515,7 +526,9 @@ class PpoTrainer {
     return features;
   }
 
+  // The features of `group`'s observations, unless their own threads encoded them.
   void encodeInto(const Group& group) {
+    if (encode_on_environment_threads_) return;
     features_.slice(0, group.first, group.last).copy_(encode(group.first, group.last));
   }
 
@@ -772,6 +785,7 @@ class PpoTrainer {
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
   torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i
+  bool encode_on_environment_threads_ = false;  // observe() fills features_ (one libtorch thread)
   std::vector<Action> last_moves_;
   std::vector<InputScratch> scratch_;
   std::vector<PpoEpisode> episodes_;  // in flight, per environment

@@ -210,6 +210,41 @@ TEST(PpoTest, OverlapBooksEveryStepAndRepeatsItself) {
   fs::remove_all(dir);
 }
 
+// With one libtorch thread each environment's thread encodes its own observation; with more,
+// the trainer encodes the batch. Both must feed the policy the same features (to float
+// rounding: a batch of one and a batch of two run different convolutions), so one update books
+// the same episodes and nearly the same losses either way.
+TEST(PpoTest, TheEnvironmentsThreadsEncodeWhatTheTrainerWould) {
+  const fs::path dir = temporaryDir("occlusion_env_ppo_encoders");
+  // The shipped network: an untrained one's features hardly tell two scenes apart.
+  PpoOptions options = shortRun(defaultModelPath());
+  options.total_steps = options.steps_per_update;
+  struct Run {
+    std::vector<PpoUpdate> updates;
+    std::vector<int> episode_steps;
+  };
+  auto train = [&](int threads, const std::string& name) {
+    options.threads = threads;
+    Run run;
+    PpoCallbacks record;
+    record.on_update = [&run](const PpoUpdate& u) { run.updates.push_back(u); };
+    record.on_episode = [&run](const PpoEpisode& e) { run.episode_steps.push_back(e.steps); };
+    trainPpo(options, 2, inProcess(), {}, (dir / name).string(), record);
+    return run;
+  };
+  const Run on_environment_threads = train(1, "one_thread");
+  const Run on_trainer_thread = train(2, "two_threads");
+  ASSERT_EQ(on_environment_threads.updates.size(), 1u);
+  ASSERT_EQ(on_trainer_thread.updates.size(), 1u);
+  EXPECT_EQ(on_environment_threads.episode_steps, on_trainer_thread.episode_steps);
+  const PpoUpdate &a = on_environment_threads.updates[0], &b = on_trainer_thread.updates[0];
+  EXPECT_NEAR(a.policy_loss, b.policy_loss, 1e-4);
+  EXPECT_NEAR(a.value_loss, b.value_loss, 1e-4);
+  EXPECT_NEAR(a.mean_episode_reward, b.mean_episode_reward, 1e-4);
+  EXPECT_EQ(a.epochs_run, b.epochs_run);
+  fs::remove_all(dir);
+}
+
 // The last update's sigma of a short run with entropy coefficient `entropy`.
 double lastSigma(PpoOptions options, double entropy, const fs::path& run) {
   options.entropy_coefficient = entropy;

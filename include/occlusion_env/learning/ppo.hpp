@@ -103,9 +103,10 @@ struct PpoUpdate {
   double success_rate = 0.0;
   double steps_per_second = 0.0;  // environment steps, including inference and the update
   // Where this update's wall time went [s]: waiting for the environments to step and reset
-  // (including the observations' conversion on their threads; with overlap one half renders
-  // while the trainer runs inference for the other, and only the wait that this does not hide
-  // counts), the network's forward passes while collecting, and the optimisation.
+  // (including the observations' conversion on their threads and, with one libtorch thread,
+  // their encoding there too; with overlap one half renders while the trainer runs inference for
+  // the other, and only the wait that this does not hide counts), the network's forward passes
+  // on the trainer's thread while collecting, and the optimisation.
   double environment_seconds = 0.0;
   double inference_seconds = 0.0;
   double optimisation_seconds = 0.0;
