@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -10,6 +11,8 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
@@ -86,7 +89,8 @@ void addRecordOptions(OptionTable<PpoOptions>& table) {
       .add("seed", &O::seed, OptionSpec("initial weights, actions and training seeds"))
       .add("threads", &O::threads,
            OptionSpec("libtorch threads; 0 = all cores (1: each environment's thread encodes its "
-                      "own observation; two stall when the machine is shared)")
+                      "own observation and, with the encoder frozen, the critic steps on a "
+                      "thread beside the actor's; two stall when the machine is shared)")
                .range(0, 256))
       .add("checkpoint_every", &O::checkpoint_every,
            OptionSpec("updates between checkpoints").range(1, 1e6));
@@ -560,62 +564,96 @@ class PpoTrainer {
     double kl = 0.0, clip_fraction = 0.0, policy_loss = 0.0, value_loss = 0.0, entropy = 0.0;
   };
 
-  // One gradient step of actor, critic (and backbone when fine-tuned) on the rows `index`.
+  // What a minibatch step trains. With the encoder frozen, actor and critic share no parameter
+  // and each one's gradient comes from its own loss alone, so the two steps are independent: the
+  // same arithmetic whether they run together or apart.
+  enum class Part { kAll, kActor, kCritic };
+
+  // One gradient step of `part` (kAll: actor, critic and, when fine-tuned, the backbone) on the
+  // rows `index`; the figures of the parts it trained.
   MinibatchFigures optimiseMinibatch(Rollout& rollout, const torch::Tensor& advantages,
                                      const torch::Tensor& returns, const torch::Tensor& index,
-                                     const torch::Tensor& rollout_std) {
-    // A learned sigma is the one being trained (with the entropy bonus's gradient); a scheduled
-    // one stays the rollout's.
-    const torch::Tensor std = options_.policy.learned_std ? policy_->logStd().exp() : rollout_std;
+                                     const torch::Tensor& rollout_std, Part part) {
+    const bool actor = part != Part::kCritic, critic = part != Part::kActor;
     const torch::Tensor features = options_.fine_tune
                                        ? policy_->features(rollout.inputs.index_select(0, index))
                                        : rollout.features.index_select(0, index);
     const torch::Tensor rig = rollout.rig.index_select(0, index);
-    const torch::Tensor actions = rollout.actions.index_select(0, index);
-    torch::Tensor log_prob, entropy;
-    if (options_.policy.isDirections()) {
-      const torch::Tensor log_probs = policy_->directionLogProbabilities(features, rig);
-      log_prob = log_probs.gather(1, actions.select(1, 0).to(torch::kLong).unsqueeze(1)).squeeze(1);
-      entropy = -(log_probs.exp() * log_probs).sum(1).mean();
-    } else {
-      log_prob = gaussianLogProbability(actions, policy_->actionMean(features, rig), std);
-      entropy = gaussianEntropy(std);
+    torch::Tensor policy_loss, value_loss, log_ratio, ratio, entropy;
+    if (actor) {
+      // A learned sigma is the one being trained (with the entropy bonus's gradient); a
+      // scheduled one stays the rollout's.
+      const torch::Tensor std = options_.policy.learned_std ? policy_->logStd().exp() : rollout_std;
+      const torch::Tensor actions = rollout.actions.index_select(0, index);
+      torch::Tensor log_prob;
+      if (options_.policy.isDirections()) {
+        const torch::Tensor log_probs = policy_->directionLogProbabilities(features, rig);
+        log_prob =
+            log_probs.gather(1, actions.select(1, 0).to(torch::kLong).unsqueeze(1)).squeeze(1);
+        entropy = -(log_probs.exp() * log_probs).sum(1).mean();
+      } else {
+        log_prob = gaussianLogProbability(actions, policy_->actionMean(features, rig), std);
+        entropy = gaussianEntropy(std);
+      }
+      log_ratio = log_prob - rollout.log_probs.index_select(0, index);
+      ratio = log_ratio.exp();
+      const torch::Tensor advantage = advantages.index_select(0, index);
+      const torch::Tensor surrogate = torch::min(
+          ratio * advantage,
+          ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
+      policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
     }
-    const torch::Tensor log_ratio = log_prob - rollout.log_probs.index_select(0, index);
-    const torch::Tensor ratio = log_ratio.exp();
-    const torch::Tensor advantage = advantages.index_select(0, index);
-    const torch::Tensor surrogate = torch::min(
-        ratio * advantage,
-        ratio.clamp(1.0 - options_.clip_epsilon, 1.0 + options_.clip_epsilon) * advantage);
-    const torch::Tensor policy_loss = -surrogate.mean() - options_.entropy_coefficient * entropy;
-    const torch::Tensor value_error =
-        policy_->value(features, rig) - returns.index_select(0, index);
-    const torch::Tensor value_loss = 0.5 * (value_error * value_error).mean();
+    if (critic) {
+      const torch::Tensor value_error =
+          policy_->value(features, rig) - returns.index_select(0, index);
+      value_loss = 0.5 * (value_error * value_error).mean();
+    }
 
-    actor_optimizer_->zero_grad();
-    critic_optimizer_->zero_grad();
+    if (actor) actor_optimizer_->zero_grad();
+    if (critic) critic_optimizer_->zero_grad();
     if (backbone_optimizer_) backbone_optimizer_->zero_grad();
-    (policy_loss + value_loss).backward();
+    (actor && critic ? policy_loss + value_loss : actor ? policy_loss : value_loss).backward();
     if (options_.max_grad_norm > 0) {
-      torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
-      torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
+      if (actor) {
+        torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
+      }
+      if (critic) {
+        torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
+      }
       if (backbone_optimizer_) {
         torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
                                           options_.max_grad_norm);
       }
     }
-    actor_optimizer_->step();
-    critic_optimizer_->step();
+    if (actor) actor_optimizer_->step();
+    if (critic) critic_optimizer_->step();
     if (backbone_optimizer_) backbone_optimizer_->step();
 
     torch::NoGradGuard no_grad;
     MinibatchFigures figures;
-    figures.kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
-    figures.clip_fraction =
-        ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
-    figures.policy_loss = policy_loss.item<double>();
-    figures.value_loss = value_loss.item<double>();
-    figures.entropy = entropy.item<double>();
+    if (actor) {
+      figures.kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
+      figures.clip_fraction =
+          ((ratio - 1.0).abs() > options_.clip_epsilon).to(torch::kFloat).mean().item<double>();
+      figures.policy_loss = policy_loss.item<double>();
+      figures.entropy = entropy.item<double>();
+    }
+    if (critic) figures.value_loss = value_loss.item<double>();
+    return figures;
+  }
+
+  // One epoch's minibatches (the rows in `order`, in turn) of `part`, their figures in order.
+  std::vector<MinibatchFigures> optimiseEpoch(Rollout& rollout, const torch::Tensor& advantages,
+                                              const torch::Tensor& returns,
+                                              const std::vector<int64_t>& order, int minibatch,
+                                              const torch::Tensor& std, Part part) {
+    std::vector<MinibatchFigures> figures;
+    for (std::size_t first = 0; first + minibatch <= order.size(); first += minibatch) {
+      const torch::Tensor index =
+          torch::from_blob(const_cast<int64_t*>(order.data()) + first, {minibatch}, torch::kLong)
+              .clone();
+      figures.push_back(optimiseMinibatch(rollout, advantages, returns, index, std, part));
+    }
     return figures;
   }
 
@@ -635,15 +673,42 @@ class PpoTrainer {
     const int minibatch = std::min(options_.minibatch_size, rows);
     MinibatchFigures sum;
     int batches = 0;
+    // With the encoder frozen and one libtorch thread, the critic's steps run on a second thread
+    // while this one runs the actor's: both cores work, and the arithmetic is the same.
+    const bool actor_and_critic_apart = !options_.fine_tune && options_.threads == 1;
     for (int epoch = 0; epoch < options_.epochs; ++epoch) {
       std::shuffle(order.begin(), order.end(), progress_.random);
+      std::vector<MinibatchFigures> epoch_figures;
+      if (actor_and_critic_apart) {
+        std::vector<MinibatchFigures> critic_figures;
+        std::exception_ptr critic_error;
+        std::thread critic_thread([&] {
+          try {
+            critic_figures =
+                optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kCritic);
+          } catch (...) {
+            critic_error = std::current_exception();
+          }
+        });
+        try {
+          epoch_figures =
+              optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kActor);
+        } catch (...) {
+          critic_thread.join();
+          throw;
+        }
+        critic_thread.join();
+        if (critic_error) std::rethrow_exception(critic_error);
+        for (std::size_t b = 0; b < epoch_figures.size(); ++b) {
+          epoch_figures[b].value_loss = critic_figures[b].value_loss;
+        }
+      } else {
+        epoch_figures =
+            optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kAll);
+      }
       double epoch_kl = 0.0;
       int epoch_batches = 0;
-      for (int first = 0; first + minibatch <= rows; first += minibatch) {
-        const torch::Tensor index =
-            torch::from_blob(order.data() + first, {minibatch}, torch::kLong).clone();
-        const MinibatchFigures figures =
-            optimiseMinibatch(rollout, advantages, returns, index, std);
+      for (const MinibatchFigures& figures : epoch_figures) {
         epoch_kl += figures.kl;
         ++epoch_batches;
         sum.kl += figures.kl;

@@ -210,11 +210,12 @@ TEST(PpoTest, OverlapBooksEveryStepAndRepeatsItself) {
   fs::remove_all(dir);
 }
 
-// With one libtorch thread each environment's thread encodes its own observation; with more,
-// the trainer encodes the batch. Both must feed the policy the same features (to float
-// rounding: a batch of one and a batch of two run different convolutions), so one update books
-// the same episodes and nearly the same losses either way.
-TEST(PpoTest, TheEnvironmentsThreadsEncodeWhatTheTrainerWould) {
+// With one libtorch thread each environment's thread encodes its own observation and the
+// critic's steps run on a thread of their own beside the actor's; with more, the trainer encodes
+// the batch and steps both together. Both must give the same update (to float rounding: a batch
+// of one and a batch of two run different convolutions), so one update books the same episodes
+// and nearly the same losses either way.
+TEST(PpoTest, OneLibtorchThreadSpreadsTheWorkAndGivesTheSameUpdate) {
   const fs::path dir = temporaryDir("occlusion_env_ppo_encoders");
   // The shipped network: an untrained one's features hardly tell two scenes apart.
   PpoOptions options = shortRun(defaultModelPath());
