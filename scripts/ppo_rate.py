@@ -4,7 +4,9 @@
 For each run folder of occlusion_train_ppo, reads RUN/updates.csv and prints a Markdown row: the
 median environment steps per second over the updates from --from-update on (the first updates
 load the scenes' meshes), each update's rate being its steps over its wall time, and the shares
-of that wall time spent stepping the environments, in inference and in optimisation.
+of that wall time spent stepping the environments, in inference and in optimisation. With one
+libtorch thread (the trainer's default) each environment's thread encodes its own observation,
+so the encoder's time is in the environments' share and inference is the heads alone.
 
   scripts/ppo_rate.py runs/a runs/b --from-update 4
 """
