@@ -14,6 +14,7 @@
 
 #include "occlusion_env/agents/oracle.hpp"
 #include "occlusion_env/common/option_table.hpp"
+#include "occlusion_env/env/environment.hpp"
 
 namespace occlusion_env {
 namespace dataset {
@@ -37,7 +38,7 @@ struct DatasetOptions {
   double first_elevation_max_rad = 0.0;
   /// Draws of a seed's scene until its start view shows occlusion (EnvironmentOptions'); a seed
   /// that needs more stops the run, naming it.
-  int max_scene_attempts = 20;
+  int max_scene_attempts = EnvironmentOptions{}.max_scene_attempts;
   bool oracle_labels = true;
   /// Around the targets and what the camera reports (the environment's `world` and
   /// `depth_sensor`, `random` included); unset: void and ideal, or random with `randomize`.
