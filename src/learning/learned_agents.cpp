@@ -31,6 +31,7 @@ torch::Tensor lastMoveBias(const torch::Tensor& bin_angles, const Action& last_m
 NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model, DirectionHead head)
     : model_(std::move(model)), head_(head) {
   if (!model_ || !model_->network) throw InvalidArgumentError("network agent: no model");
+  encoder_ = std::make_unique<InferenceEncoder>(*model_->network);
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   const int bins = model_->network->config().escape_bins;
@@ -45,7 +46,7 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.
   auto& network = model_->network;
-  const torch::Tensor features = network->encode(input_);
+  const torch::Tensor features = encoder_->encode(input_);
   // A network with an escape-bins head escapes along its best bin, not the regression's mean.
   const torch::Tensor direction =
       head_ == DirectionHead::kGradient ? network->gradientHead()->forward(features)

@@ -266,6 +266,7 @@ PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
       sigma_[0] = sigma_[1] = trained.at("action_std_end").get<double>();
     }
   }
+  encoder_ = std::make_unique<InferenceEncoder>(*policy_->network->backbone());
   const int size = policy_->network->backbone()->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   rig_ = torch::zeros({1, kRigInputs});
@@ -282,7 +283,7 @@ Action PolicyAgent::act(const RigObservation& observation) {
                     scratch_, input_.data_ptr<float>());
   writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
-  const torch::Tensor features = network->features(input_);
+  const torch::Tensor features = encoder_->encode(input_);
   float d_azimuth = 0.0f, d_elevation = 0.0f;
   if (sampled_ && network->config().isDirections()) {
     const torch::Tensor log_probs = network->directionLogProbabilities(features, rig_).contiguous();

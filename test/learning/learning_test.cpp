@@ -12,6 +12,7 @@
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/negative_frames.hpp"
@@ -50,6 +51,55 @@ TEST(LearningTest, EveryVariantGivesTheShapesOfItsHeads) {
   bad = {};
   bad.variant = "transformer";
   EXPECT_THROW(bad.validate(), InvalidArgumentError);
+}
+
+// The encoder prepared for inference gives the network's own features, for every variant
+// (separable and dilated convolutions, residual blocks), batches of one and more, with BatchNorm
+// statistics far from their initial ones; a snapshot keeps the weights it was made from.
+TEST(LearningTest, TheInferenceEncoderGivesTheNetworksFeatures) {
+  torch::manual_seed(5);
+  for (const std::string variant : {"unet", "r_unet", "sr_unet", "sar_unet"}) {
+    NetworkConfig config;
+    config.variant = variant;
+    config.input_size = 32;
+    MultiTaskUNet network(config);
+    {
+      torch::NoGradGuard no_grad;
+      for (auto& buffer : network->named_buffers()) {
+        if (buffer.key().find("running_mean") != std::string::npos) buffer.value().normal_(0, 0.3);
+        if (buffer.key().find("running_var") != std::string::npos) buffer.value().uniform_(0.5, 2);
+      }
+      for (auto& parameter : network->parameters())
+        parameter.add_(torch::randn_like(parameter) * 0.05);
+    }
+    network->eval();
+    const InferenceEncoder encoder(*network);
+    for (const int batch : {1, 3}) {
+      const torch::Tensor input = torch::randn({batch, 4, 32, 32});
+      torch::Tensor expected;
+      {
+        torch::NoGradGuard no_grad;
+        expected = network->encode(input);
+      }
+      const torch::Tensor features = encoder.encode(input);
+      ASSERT_EQ(features.sizes(), expected.sizes()) << variant;
+      EXPECT_FALSE(features.requires_grad());
+      const double scale = expected.abs().max().item<double>();
+      EXPECT_GT(scale, 0.1) << variant;
+      EXPECT_LT((features - expected).abs().max().item<double>(), 1e-4 * scale)
+          << variant << ", batch " << batch;
+    }
+    // A later change of the network's weights does not reach the snapshot.
+    const torch::Tensor input = torch::randn({1, 4, 32, 32});
+    const torch::Tensor before = encoder.encode(input);
+    {
+      torch::NoGradGuard no_grad;
+      for (auto& parameter : network->parameters()) parameter.mul_(1.5);
+    }
+    if (encoder.usesOneDnn()) {
+      EXPECT_TRUE(torch::equal(encoder.encode(input), before)) << variant;
+    }
+  }
 }
 
 // A tiny dataset of the embedded objects: `scenes` scenes from `first_seed` on, 64 px.

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
 
@@ -28,6 +29,7 @@ class NetworkDirectionAgent : public Agent {
 
  private:
   std::shared_ptr<LoadedModel> model_;
+  std::unique_ptr<InferenceEncoder> encoder_;  // the model's encoder, prepared for inference
   DirectionHead head_;
   InputScratch scratch_;
   torch::Tensor input_;

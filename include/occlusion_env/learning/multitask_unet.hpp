@@ -66,12 +66,15 @@ struct NetworkOutput {
 };
 
 // Two conv units of one width (conv -> ReLU -> BatchNorm), residual when the config says so.
+class InferenceEncoder;  // learning/inference_encoder.hpp: reads the modules below
+
 class ConvUnitsImpl : public torch::nn::Module {
  public:
   ConvUnitsImpl(int channels, const NetworkConfig& config);
   torch::Tensor forward(torch::Tensor x);
 
  private:
+  friend class InferenceEncoder;
   torch::nn::Sequential units_{nullptr};
   bool residual_ = false;
 };
@@ -94,6 +97,7 @@ class MultiTaskUNetImpl : public torch::nn::Module {
   torch::nn::Sequential& escapeBinsHead() { return escape_bins_head_; }
 
  private:
+  friend class InferenceEncoder;
   torch::Tensor encoderFeatures(torch::Tensor input, std::vector<torch::Tensor>* skips);
 
   NetworkConfig config_;

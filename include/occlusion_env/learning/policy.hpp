@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/multitask_unet.hpp"
 #include "occlusion_env/learning/network_input.hpp"
 
@@ -149,6 +150,7 @@ class PolicyAgent : public Agent {
 
  private:
   std::shared_ptr<LoadedPolicy> policy_;
+  std::unique_ptr<InferenceEncoder> encoder_;  // the backbone's, prepared for inference
   bool sampled_;
   double sigma_[2] = {0.0, 0.0};  // the Gaussian's per axis, when sampled
   std::mt19937_64 random_;
