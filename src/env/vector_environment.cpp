@@ -83,20 +83,26 @@ void VectorEnvironment::serve(int index, const Factory& factory) {
     work_ready_.wait(lock, [&] { return stopping_ || worker.has_work; });
     if (stopping_) return;
     const VectorRequest request = worker.request;
+    const Task* task = worker.task;
     lock.unlock();
     std::exception_ptr error;
     try {
-      if (request.kind == VectorRequest::Kind::kReset) {
-        worker.result = worker.environment->reset(request.seed, request.reset);
+      if (task) {
+        (*task)(index, *worker.environment);
       } else {
-        worker.result = worker.environment->step(request.action);
+        if (request.kind == VectorRequest::Kind::kReset) {
+          worker.result = worker.environment->reset(request.seed, request.reset);
+        } else {
+          worker.result = worker.environment->step(request.action);
+        }
+        if (observer_) observer_(index, worker.result);
       }
-      if (observer_) observer_(index, worker.result);
     } catch (...) {
       error = std::current_exception();
     }
     lock.lock();
     worker.error = error;
+    worker.task = nullptr;
     worker.has_work = false;
     work_done_.notify_all();
   }
@@ -121,6 +127,27 @@ void VectorEnvironment::run(const std::vector<VectorRequest>& requests) {
     }
   }
   work_ready_.notify_all();
+  waitForAll();
+}
+
+void VectorEnvironment::runOnEach(const Task& task) {
+  if (!task) throw InvalidArgumentError("vector environment: runOnEach() without a task");
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& worker : workers_) {
+      if (worker->has_work) throw InvalidStateError("vector environment: runOnEach() while busy");
+    }
+    for (auto& worker : workers_) {
+      worker->error = nullptr;
+      worker->task = &task;
+      worker->has_work = true;
+    }
+  }
+  work_ready_.notify_all();
+  waitForAll();
+}
+
+void VectorEnvironment::waitForAll() {
   std::exception_ptr first_error;
   for (std::size_t i = 0; i < workers_.size(); ++i) {
     try {

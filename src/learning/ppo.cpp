@@ -16,6 +16,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
 #include "occlusion_env/learning/training.hpp"
@@ -166,7 +167,10 @@ struct Progress {
   int updates = 0;
   std::int64_t env_steps = 0;
   std::int64_t episodes = 0;
-  std::mt19937_64 random;  // scene seeds, action noise, minibatch order
+  std::mt19937_64 random;  // minibatch order
+  // Environment i's scene seeds and action noise: its episodes do not depend on when the other
+  // environments' steps end.
+  std::vector<std::mt19937_64> environment_random;
 };
 
 // Keeps the rows of a CSV whose first column is <= `last` (rows written after the checkpoint
@@ -247,7 +251,14 @@ class PpoTrainer {
           torch::optim::AdamOptions(options_.backbone_learning_rate));
     }
     progress_.random.seed(options_.seed);
+    for (int i = 0; i < count_; ++i) {
+      std::seed_seq seed{static_cast<std::uint64_t>(options_.seed), static_cast<std::uint64_t>(i)};
+      progress_.environment_random.emplace_back(seed);
+    }
     resume();
+    // A frozen encoder is the same for the whole run: prepared once for inference.
+    if (!options_.fine_tune)
+      frozen_encoder_ = std::make_unique<InferenceEncoder>(*policy_->backbone());
 
     inputs_ = torch::zeros({count_, 4, input_format_.size, input_format_.size});
     rig_ = torch::zeros({count_, kRigInputs});
@@ -335,6 +346,10 @@ class PpoTrainer {
   // inference of one group overlaps the rendering of the other. With two groups, inference runs
   // on one libtorch thread (the other cores render); the update gets options_.threads again.
   void collectRollout(int steps_per_env, const torch::Tensor& std, Rollout& rollout) {
+    if (encode_on_environment_threads_ && !options_.overlap) {
+      collectApart(steps_per_env, std, rollout);
+      return;
+    }
     const std::vector<Group> groups = groupsOf(count_, options_.overlap);
     if (groups.size() == 1) {
       for (int t = 0; t < steps_per_env; ++t) {
@@ -354,9 +369,77 @@ class PpoTrainer {
     finishStep(steps_per_env - 1, second, rollout);
   }
 
+  // Each environment's thread collects its own steps_per_env rows without waiting for the
+  // others: it chooses its action from its features (encoded on the same thread, in observe()),
+  // steps, books the step and, when the episode has ended, resets at once. A reset or a slow
+  // step no longer holds the other environments back. The ended episodes are logged afterwards
+  // in the order of the rounds they ended in, then of the environments: the order, step counts
+  // and indices the rollout in rounds gives.
+  void collectApart(int steps_per_env, const torch::Tensor& std, Rollout& rollout) {
+    const std::int64_t first_step = progress_.env_steps;
+    struct Ended {
+      int round;
+      PpoEpisode episode;
+    };
+    std::vector<std::vector<Ended>> ended(count_);
+    std::vector<double> inference_seconds(count_, 0.0);
+    const auto start = Clock::now();
+    environments_->runOnEach([&](int i, EnvironmentInterface& environment) {
+      torch::NoGradGuard no_grad;  // grad mode is per thread
+      for (int t = 0; t < steps_per_env; ++t) {
+        chooseActions(t, {i, i + 1}, std, rollout, inference_seconds[i]);
+        const StepResult result = environment.step(last_moves_[i]);
+        observe(i, result);
+        if (bookStep(t, i, result, rollout)) {
+          ended[i].push_back({t, episodes_[i]});
+          resetApart(i, environment);
+        }
+      }
+    });
+    // Each thread's inference is part of its round; the threads ran side by side.
+    double inference = 0.0;
+    for (const double seconds : inference_seconds) inference += seconds / count_;
+    inference_seconds_ += inference;
+    environment_seconds_ += secondsSince(start) - inference;
+    for (int t = 0; t < steps_per_env; ++t) {
+      for (int i = 0; i < count_; ++i) {
+        for (const Ended& e : ended[i]) {
+          if (e.round == t) endEpisode(e.episode, first_step + std::int64_t(t + 1) * count_);
+        }
+      }
+    }
+    progress_.env_steps = first_step + std::int64_t(steps_per_env) * count_;
+  }
+
+  // On environment i's thread: a new episode, skipping seeds without a scene as waitFor() does.
+  void resetApart(int i, EnvironmentInterface& environment) {
+    for (int skipped = 0;; ++skipped) {
+      const VectorRequest request = resetRequest(i);
+      try {
+        observe(i, environment.reset(request.seed, request.reset));
+        return;
+      } catch (const SceneGenerationError& error) {
+        if (skipped >= kMaxSkippedSeeds) throw;
+        std::cerr << "occlusion_train_ppo: skipping training seed " << request.seed
+                  << ": environment " << i << ": " << error.what() << "\n";
+      }
+    }
+  }
+
   // Samples the actions of `group` from the current features, stores row t of its environments
   // and starts their steps.
   void act(int t, const Group& group, const torch::Tensor& std, Rollout& rollout) {
+    chooseActions(t, group, std, rollout, inference_seconds_);
+    for (int i = group.first; i < group.last; ++i) {
+      environments_->start(i, VectorRequest::stepBy(last_moves_[i]));
+    }
+  }
+
+  // Samples the actions of `group` from the current features (each environment's noise from its
+  // own stream), stores row t of its environments and their moves in last_moves_. Adds the
+  // networks' time to `inference_seconds`.
+  void chooseActions(int t, const Group& group, const torch::Tensor& std, Rollout& rollout,
+                     double& inference_seconds) {
     const int n = group.last - group.first;
     const torch::Tensor features = features_.slice(0, group.first, group.last);
     const torch::Tensor rig = rig_.slice(0, group.first, group.last);
@@ -370,7 +453,7 @@ class PpoTrainer {
         mean = policy_->actionMean(features, rig);
       }
       values = policy_->value(features, rig);
-      inference_seconds_ += secondsSince(start);
+      inference_seconds += secondsSince(start);
     }
     // A Gaussian's action is the move; a direction's is stored as its index k (the move u_k).
     torch::Tensor actions = torch::zeros({n, 2});
@@ -388,7 +471,8 @@ class PpoTrainer {
       const int count = static_cast<int>(log_probs.size(1));
       for (int i = 0; i < n; ++i) {
         const float* row = log_probs.data_ptr<float>() + static_cast<std::ptrdiff_t>(i) * count;
-        const int k = sampleDirection(row, count, uniform(progress_.random));
+        const int k =
+            sampleDirection(row, count, uniform(progress_.environment_random[group.first + i]));
         out[i][0] = static_cast<float>(k);
         move[i][0] = vectors[k][0];
         move[i][1] = vectors[k][1];
@@ -400,7 +484,8 @@ class PpoTrainer {
       auto sigma = std.accessor<float, 1>();
       auto out = actions.accessor<float, 2>();
       for (int i = 0; i < n; ++i) {
-        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(progress_.random);
+        std::mt19937_64& random = progress_.environment_random[group.first + i];
+        for (int k = 0; k < 2; ++k) out[i][k] = in[i][k] + sigma[k] * noise(random);
       }
       action_log_probs = gaussianLogProbability(actions, mean, std);
     }
@@ -416,7 +501,6 @@ class PpoTrainer {
     auto chosen = moves.accessor<float, 2>();
     for (int i = group.first; i < group.last; ++i) {
       last_moves_[i] = {chosen[i - group.first][0], chosen[i - group.first][1]};
-      environments_->start(i, VectorRequest::stepBy(last_moves_[i]));
     }
   }
 
@@ -428,28 +512,8 @@ class PpoTrainer {
     encodeInto(group);
     bool any_ended = false;
     for (int i = group.first; i < group.last; ++i) {
-      const StepResult& result = environments_->result(i);
-      double reward = result.reward;
-      PpoEpisode& episode = episodes_[i];
-      episode.reward += result.reward;
-      ++episode.steps;
-      const bool ended = result.terminated || result.truncated;
-      if (result.truncated && !result.terminated) {
-        // Time ran out, not the task: bootstrap with the value of where the episode stopped.
-        torch::NoGradGuard no_grad;
-        reward +=
-            options_.gamma *
-            policy_->value(features_.slice(0, i, i + 1), rig_.slice(0, i, i + 1)).item<double>();
-      }
-      rollout.rewards[t * count_ + i] = reward;
-      rollout.dones[t * count_ + i] = ended ? 1.0f : 0.0f;
-      if (ended) {
-        episode.success = result.terminated;
-        episode.index = ++progress_.episodes;
-        episode.env_steps = progress_.env_steps;
-        appendEpisode(episode);
-        ended_.push_back(episode);
-        if (callbacks_.on_episode) callbacks_.on_episode(episode);
+      if (bookStep(t, i, environments_->result(i), rollout)) {
+        endEpisode(episodes_[i], progress_.env_steps);
         environments_->start(i, resetRequest(i));
         any_ended = true;
       }
@@ -458,6 +522,36 @@ class PpoTrainer {
       waitFor(group);
       encodeInto(group);
     }
+  }
+
+  // Books environment i's step of round t (its reward, bootstrapping a truncation, and whether
+  // the episode ended) into the rollout and its episode; true when the episode has ended.
+  bool bookStep(int t, int i, const StepResult& result, Rollout& rollout) {
+    double reward = result.reward;
+    PpoEpisode& episode = episodes_[i];
+    episode.reward += result.reward;
+    ++episode.steps;
+    const bool ended = result.terminated || result.truncated;
+    if (result.truncated && !result.terminated) {
+      // Time ran out, not the task: bootstrap with the value of where the episode stopped.
+      torch::NoGradGuard no_grad;
+      reward +=
+          options_.gamma *
+          policy_->value(features_.slice(0, i, i + 1), rig_.slice(0, i, i + 1)).item<double>();
+    }
+    rollout.rewards.data_ptr<float>()[t * count_ + i] = static_cast<float>(reward);
+    rollout.dones.data_ptr<float>()[t * count_ + i] = ended ? 1.0f : 0.0f;
+    if (ended) episode.success = result.terminated;
+    return ended;
+  }
+
+  // Logs an ended episode as the run's next, ended at `env_steps`.
+  void endEpisode(PpoEpisode episode, std::int64_t env_steps) {
+    episode.index = ++progress_.episodes;
+    episode.env_steps = env_steps;
+    appendEpisode(episode);
+    ended_.push_back(episode);
+    if (callbacks_.on_episode) callbacks_.on_episode(episode);
   }
 
   // Waits until every environment of `group` has answered. A training seed whose scene draws
@@ -490,16 +584,16 @@ class PpoTrainer {
         {2}, options_.action_std + (options_.action_std_end - options_.action_std) * done);
   }
 
-  std::uint64_t nextSeed() {
-    return std::uniform_int_distribution<std::uint64_t>(0,
-                                                        kFirstValidationSeed - 1)(progress_.random);
+  std::uint64_t nextSeed(int i) {
+    return std::uniform_int_distribution<std::uint64_t>(
+        0, kFirstValidationSeed - 1)(progress_.environment_random[i]);
   }
 
   VectorRequest resetRequest(int i) {
     last_moves_[i] = Action{};
     episodes_[i] = PpoEpisode{};
     episodes_[i].environment = i;
-    episodes_[i].seed = nextSeed();
+    episodes_[i].seed = nextSeed(i);
     return VectorRequest::resetTo(episodes_[i].seed, reset_);
   }
 
@@ -512,20 +606,26 @@ class PpoTrainer {
                   rig_.data_ptr<float>() + i * kRigInputs);
     if (encode_on_environment_threads_) {
       torch::NoGradGuard no_grad;  // grad mode is per thread
-      features_.slice(0, i, i + 1).copy_(policy_->features(inputs_.slice(0, i, i + 1)));
+      features_.slice(0, i, i + 1).copy_(featuresOf(inputs_.slice(0, i, i + 1)));
     }
   }
 
-  // The encoder's features of the observations of environments [first, last). With overlap a
-  // single observation goes in twice: libtorch 1.13 runs batches of one through its slower
-  // native convolutions (im2col + BLAS), larger ones through oneDNN.
+  // The encoder's features of `inputs`, without gradient: the frozen encoder's snapshot, or the
+  // encoder being fine-tuned.
+  torch::Tensor featuresOf(const torch::Tensor& inputs) {
+    return frozen_encoder_ ? frozen_encoder_->encode(inputs) : policy_->features(inputs);
+  }
+
+  // The encoder's features of the observations of environments [first, last). With overlap and
+  // a fine-tuned encoder a single observation goes in twice: libtorch 1.13 runs batches of one
+  // through its slower native convolutions (im2col + BLAS), larger ones through oneDNN.
   torch::Tensor encode(int first, int last) {
     const auto start = Clock::now();
     torch::NoGradGuard no_grad;
     const torch::Tensor inputs = inputs_.slice(0, first, last);
-    torch::Tensor features = options_.overlap && last - first == 1
+    torch::Tensor features = options_.overlap && last - first == 1 && !frozen_encoder_
                                  ? policy_->features(inputs.repeat({2, 1, 1, 1})).slice(0, 0, 1)
-                                 : policy_->features(inputs);
+                                 : featuresOf(inputs);
     inference_seconds_ += secondsSince(start);
     return features;
   }
@@ -786,11 +886,16 @@ class PpoTrainer {
     archive.save_to((dir / "checkpoint.pt.tmp").string());
     std::ostringstream random;
     random << progress_.random;
-    const nlohmann::json state = {{"options", resumeKey(options_)},
-                                  {"updates", progress_.updates},
-                                  {"env_steps", progress_.env_steps},
-                                  {"episodes", progress_.episodes},
-                                  {"random", random.str()}};
+    nlohmann::json environment_random = nlohmann::json::array();
+    for (const auto& stream : progress_.environment_random) {
+      std::ostringstream text;
+      text << stream;
+      environment_random.push_back(text.str());
+    }
+    const nlohmann::json state = {
+        {"options", resumeKey(options_)},   {"updates", progress_.updates},
+        {"env_steps", progress_.env_steps}, {"episodes", progress_.episodes},
+        {"random", random.str()},           {"environment_random", environment_random}};
     {
       std::ofstream out(dir / "checkpoint.json.tmp");
       out << state.dump(2) << '\n';
@@ -835,6 +940,15 @@ class PpoTrainer {
     progress_.episodes = state.at("episodes").get<std::int64_t>();
     std::istringstream random(state.at("random").get<std::string>());
     random >> progress_.random;
+    // Checkpoints from before the environments had streams of their own, or of another count of
+    // environments, keep the streams the seed gives.
+    const nlohmann::json& streams = state.value("environment_random", nlohmann::json::array());
+    if (streams.size() == progress_.environment_random.size()) {
+      for (std::size_t i = 0; i < streams.size(); ++i) {
+        std::istringstream text(streams[i].get<std::string>());
+        text >> progress_.environment_random[i];
+      }
+    }
     trimCsv(dir / kEpisodesCsv, kEpisodeHeader, progress_.episodes);
     trimCsv(dir / "updates.csv", kUpdateHeader, progress_.updates);
   }
@@ -850,6 +964,7 @@ class PpoTrainer {
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
   torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i
+  std::unique_ptr<InferenceEncoder> frozen_encoder_;  // unless the encoder is fine-tuned
   bool encode_on_environment_threads_ = false;  // observe() fills features_ (one libtorch thread)
   std::vector<Action> last_moves_;
   std::vector<InputScratch> scratch_;

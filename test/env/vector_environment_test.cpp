@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstring>
 #include <thread>
 
@@ -121,6 +122,58 @@ TEST(VectorEnvironmentTest, StartAndWaitGiveWhatRunGives) {
   fresh.wait(0);  // the error was reported once
 }
 
+// runOnEach() runs a task on every environment's own thread, each with its own environment, all
+// at once: each does what the same calls on one environment do, the observer is not called, the
+// environments keep the state the task left, and an error names its environment after all are
+// done.
+TEST(VectorEnvironmentTest, RunOnEachGivesEveryThreadItsOwnEnvironment) {
+  constexpr int kCount = 2;
+  std::atomic<int> observations{0};
+  VectorEnvironment envs(kCount, inProcess(), [&](int, const StepResult&) { ++observations; });
+  std::vector<std::thread::id> ran_on(kCount);
+  std::vector<std::int64_t> occlusion(kCount);
+  std::atomic<int> inside{0}, most_inside{0};
+  envs.runOnEach([&](int i, EnvironmentInterface& environment) {
+    ran_on[i] = std::this_thread::get_id();
+    const int now = ++inside;
+    for (int seen = most_inside.load();
+         now > seen && !most_inside.compare_exchange_weak(seen, now);) {
+    }
+    environment.reset(60 + i);
+    // Stay until the other thread is inside too (or a second has passed): they run at once.
+    for (int wait = 0; wait < 1000 && most_inside.load() < kCount; ++wait) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    StepResult result;
+    for (int step = 0; step < 3; ++step) result = environment.step({0.2 * (i + 1), 0.1});
+    occlusion[i] = result.info.occlusion.total_pixels;
+    --inside;
+  });
+  EXPECT_EQ(most_inside.load(), kCount) << "the tasks ran one after the other";
+  EXPECT_EQ(observations.load(), 0);
+  EXPECT_NE(ran_on[0], ran_on[1]);
+  for (int i = 0; i < kCount; ++i) {
+    EXPECT_NE(ran_on[i], std::this_thread::get_id());
+    Environment reference(smallOptions());
+    reference.reset(60 + i);
+    StepResult expected;
+    for (int step = 0; step < 3; ++step) expected = reference.step({0.2 * (i + 1), 0.1});
+    EXPECT_EQ(occlusion[i], expected.info.occlusion.total_pixels) << i;
+  }
+  // The environments keep their episodes: a step continues where the task stopped.
+  envs.run({VectorRequest::stepBy({0.1, 0.0}), VectorRequest::stepBy({0.1, 0.0})});
+  EXPECT_EQ(envs.result(0).info.step_index, 4);
+  EXPECT_EQ(observations.load(), kCount);
+  try {
+    envs.runOnEach([](int i, EnvironmentInterface&) {
+      if (i == 1) throw InvalidStateError("the task failed");
+    });
+    FAIL() << "a task's error was lost";
+  } catch (const InvalidStateError& error) {
+    EXPECT_NE(std::string(error.what()).find("environment 1"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(envs.runOnEach({}), InvalidArgumentError);
+}
 TEST(VectorEnvironmentTest, AFactoryErrorReachesTheCaller) {
   EXPECT_THROW(VectorEnvironment(2,
                                  [](int i) -> std::unique_ptr<EnvironmentInterface> {

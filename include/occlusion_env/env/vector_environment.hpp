@@ -7,6 +7,7 @@
 //   envs.run(requests);  // requests[i]: reset(seed) | step(action) | idle
 //   envs.result(i)       // what environment i answered last
 //   envs.start(i, request); ...; envs.wait(i);  // one environment works while the caller does
+//   envs.runOnEach([&](int i, EnvironmentInterface& env) { ... });  // each thread, on its own
 #pragma once
 
 #include <condition_variable>
@@ -43,6 +44,9 @@ class VectorEnvironment {
   /// Called on environment i's thread after each of its resets and steps, while its observation
   /// is valid: the place to convert it for a network in parallel (write into a batch slot).
   using Observer = std::function<void(int index, const StepResult& result)>;
+  /// Work environment i's thread does with environment i, e.g. its share of a rollout: as many
+  /// resets and steps as it needs, without waiting for the others.
+  using Task = std::function<void(int index, EnvironmentInterface& environment)>;
 
   /// Starts `count` threads and makes the environments; rethrows the first factory error.
   VectorEnvironment(int count, Factory factory, Observer observer = {});
@@ -64,6 +68,11 @@ class VectorEnvironment {
   /// Returns when environment i has answered the request start() gave it (at once if none is
   /// pending); throws its error as run() does, naming the environment.
   void wait(int index);
+  /// Every environment's thread runs task(i, environment i), all concurrently; returns when all
+  /// are done. The observer is not called (the task sees every result itself), and result(i)
+  /// keeps the last request's answer, whose observation the task's calls may have overwritten.
+  /// Errors as run().
+  void runOnEach(const Task& task);
 
   /// Environment i's answer to its last reset or step. Its observation is valid until the next
   /// run() that resets or steps environment i.
@@ -75,12 +84,15 @@ class VectorEnvironment {
     std::thread thread;
     std::unique_ptr<EnvironmentInterface> environment;
     VectorRequest request;
+    const Task* task = nullptr;  // runOnEach()'s, instead of the request
     bool has_work = false;
     StepResult result;
     std::exception_ptr error;
     std::string description;
   };
   void serve(int index, const Factory& factory);
+  // Waits for every environment, then throws the first error (naming its environment).
+  void waitForAll();
   // Throws worker i's error, if any, naming the environment; clears it.
   void rethrowError(int index);
 
