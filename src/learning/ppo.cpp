@@ -16,6 +16,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/flat_adam.hpp"
 #include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
@@ -241,10 +242,11 @@ class PpoTrainer {
     if (!options_.fine_tune) {
       for (auto& p : policy_->backbone()->parameters()) p.set_requires_grad(false);
     }
-    actor_optimizer_ = std::make_unique<torch::optim::Adam>(
-        policy_->actorParameters(), torch::optim::AdamOptions(options_.actor_learning_rate));
-    critic_optimizer_ = std::make_unique<torch::optim::Adam>(
-        policy_->criticParameters(), torch::optim::AdamOptions(options_.critic_learning_rate));
+    // The heads' few thousand weights each: stepped flat (learning/flat_adam.hpp).
+    actor_optimizer_ =
+        std::make_unique<FlatAdam>(policy_->actorParameters(), options_.actor_learning_rate);
+    critic_optimizer_ =
+        std::make_unique<FlatAdam>(policy_->criticParameters(), options_.critic_learning_rate);
     if (options_.fine_tune) {
       backbone_optimizer_ = std::make_unique<torch::optim::Adam>(
           policy_->backbone()->parameters(),
@@ -709,25 +711,20 @@ class PpoTrainer {
       value_loss = 0.5 * (value_error * value_error).mean();
     }
 
-    if (actor) actor_optimizer_->zero_grad();
-    if (critic) critic_optimizer_->zero_grad();
+    if (actor) actor_optimizer_->zeroGrad();
+    if (critic) critic_optimizer_->zeroGrad();
     if (backbone_optimizer_) backbone_optimizer_->zero_grad();
     (actor && critic ? policy_loss + value_loss : actor ? policy_loss : value_loss).backward();
-    if (options_.max_grad_norm > 0) {
-      if (actor) {
-        torch::nn::utils::clip_grad_norm_(policy_->actorParameters(), options_.max_grad_norm);
-      }
-      if (critic) {
-        torch::nn::utils::clip_grad_norm_(policy_->criticParameters(), options_.max_grad_norm);
-      }
-      if (backbone_optimizer_) {
+    // Each part's gradient is clipped to the norm on its own, then stepped.
+    if (actor) actor_optimizer_->step(options_.max_grad_norm);
+    if (critic) critic_optimizer_->step(options_.max_grad_norm);
+    if (backbone_optimizer_) {
+      if (options_.max_grad_norm > 0) {
         torch::nn::utils::clip_grad_norm_(policy_->backbone()->parameters(),
                                           options_.max_grad_norm);
       }
+      backbone_optimizer_->step();
     }
-    if (actor) actor_optimizer_->step();
-    if (critic) critic_optimizer_->step();
-    if (backbone_optimizer_) backbone_optimizer_->step();
 
     torch::NoGradGuard no_grad;
     MinibatchFigures figures;
@@ -960,7 +957,8 @@ class PpoTrainer {
   PpoCallbacks callbacks_;
   InputFormat input_format_;  // the pretrained network's
   PolicyNetwork policy_{nullptr};
-  std::unique_ptr<torch::optim::Adam> actor_optimizer_, critic_optimizer_, backbone_optimizer_;
+  std::unique_ptr<FlatAdam> actor_optimizer_, critic_optimizer_;
+  std::unique_ptr<torch::optim::Adam> backbone_optimizer_;  // when fine-tuned
   Progress progress_;
   torch::Tensor inputs_, rig_;  // the current observations, row i = environment i
   torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i

@@ -6,12 +6,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "learning/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"
+#include "occlusion_env/learning/flat_adam.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/policy.hpp"
@@ -426,6 +428,88 @@ TEST(PpoTest, ADirectionsPolicyTrainsWithItsEntropyBonusAndActs) {
   }
   EXPECT_TRUE(varied) << "six draws of a broad distribution were all the same move";
   fs::remove_all(dir);
+}
+
+// FlatAdam takes the steps torch::optim::Adam takes after clip_grad_norm_, clipped or not, from
+// gradients that backward() accumulates; its state survives save/load, and it continues from a
+// torch::optim::Adam's saved state (checkpoints before it) as that optimiser would.
+TEST(PpoTest, FlatAdamStepsAsTorchsAdamAfterClipping) {
+  torch::manual_seed(11);
+  auto makeMlp = [] {
+    torch::manual_seed(12);
+    return torch::nn::Sequential(torch::nn::Linear(7, 5), torch::nn::Tanh(),
+                                 torch::nn::Linear(5, 2));
+  };
+  torch::nn::Sequential flat_mlp = makeMlp(), torch_mlp = makeMlp();
+  FlatAdam flat(flat_mlp->parameters(), 0.01);
+  torch::optim::Adam reference(torch_mlp->parameters(), torch::optim::AdamOptions(0.01));
+  const auto lossOf = [](torch::nn::Sequential& mlp, const torch::Tensor& x, double scale) {
+    return (mlp->forward(x) * scale).pow(2).mean();
+  };
+  bool clipped = false, unclipped = false;
+  const auto sameParameters = [&](double tolerance) {
+    const auto a = flat_mlp->parameters(), b = torch_mlp->parameters();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (!torch::allclose(a[i], b[i], 0.0, tolerance)) return false;
+    }
+    return true;
+  };
+  for (int step = 0; step < 30; ++step) {
+    const torch::Tensor x = torch::randn({16, 7});
+    const double scale = step % 2 == 0 ? 10.0 : 0.1;  // large gradients clipped, small ones not
+    flat.zeroGrad();
+    lossOf(flat_mlp, x, scale).backward();
+    reference.zero_grad();
+    lossOf(torch_mlp, x, scale).backward();
+    const double norm = torch::nn::utils::clip_grad_norm_(torch_mlp->parameters(), 1.0);
+    (norm > 1.0 ? clipped : unclipped) = true;
+    flat.step(1.0);
+    reference.step();
+    ASSERT_TRUE(sameParameters(1e-5)) << "step " << step;
+  }
+  EXPECT_TRUE(clipped && unclipped);
+
+  // Saved and loaded into a fresh optimiser: the next step is the same.
+  torch::serialize::OutputArchive out;
+  flat.save(out);
+  std::stringstream bytes;
+  out.save_to(bytes);
+  torch::serialize::InputArchive in;
+  in.load_from(bytes);
+  FlatAdam restored(flat_mlp->parameters(), 0.01);
+  restored.load(in);
+  // From torch's Adam's own saved state, too.
+  torch::nn::Sequential converted_mlp = makeMlp();
+  {
+    torch::NoGradGuard no_grad;
+    const auto source = torch_mlp->parameters(), target = converted_mlp->parameters();
+    for (std::size_t i = 0; i < source.size(); ++i) target[i].copy_(source[i]);
+  }
+  torch::serialize::OutputArchive torch_out;
+  reference.save(torch_out);
+  std::stringstream torch_bytes;
+  torch_out.save_to(torch_bytes);
+  torch::serialize::InputArchive torch_in;
+  torch_in.load_from(torch_bytes);
+  FlatAdam converted(converted_mlp->parameters(), 0.01);
+  converted.load(torch_in);
+
+  const torch::Tensor x = torch::randn({16, 7});
+  restored.zeroGrad();
+  lossOf(flat_mlp, x, 0.1).backward();
+  restored.step(1.0);
+  converted.zeroGrad();
+  lossOf(converted_mlp, x, 0.1).backward();
+  converted.step(1.0);
+  reference.zero_grad();
+  lossOf(torch_mlp, x, 0.1).backward();
+  torch::nn::utils::clip_grad_norm_(torch_mlp->parameters(), 1.0);
+  reference.step();
+  EXPECT_TRUE(sameParameters(1e-5)) << "after save and load";
+  const auto a = converted_mlp->parameters(), b = torch_mlp->parameters();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(torch::allclose(a[i], b[i], 0.0, 1e-5)) << "from torch's Adam, parameter " << i;
+  }
 }
 
 TEST(PpoTest, SampleDirectionInvertsTheCumulativeProbability) {
