@@ -470,14 +470,20 @@ TEST(PpoTest, FlatAdamStepsAsTorchsAdamAfterClipping) {
   EXPECT_TRUE(clipped && unclipped);
 
   // Saved and loaded into a fresh optimiser: the next step is the same.
-  torch::serialize::OutputArchive out;
-  flat.save(out);
-  std::stringstream bytes;
-  out.save_to(bytes);
-  torch::serialize::InputArchive in;
-  in.load_from(bytes);
+  std::stringstream flat_bytes, torch_bytes;
+  const auto saveTo = [](std::stringstream& bytes, const auto& optimiser) {
+    torch::serialize::OutputArchive out;
+    optimiser.save(out);
+    out.save_to(bytes);
+  };
+  const auto loadInto = [](std::stringstream& bytes, FlatAdam& optimiser) {
+    torch::serialize::InputArchive in;
+    in.load_from(bytes);
+    optimiser.load(in);
+  };
+  saveTo(flat_bytes, flat);
   FlatAdam restored(flat_mlp->parameters(), 0.01);
-  restored.load(in);
+  loadInto(flat_bytes, restored);
   // From torch's Adam's own saved state, too.
   torch::nn::Sequential converted_mlp = makeMlp();
   {
@@ -485,14 +491,9 @@ TEST(PpoTest, FlatAdamStepsAsTorchsAdamAfterClipping) {
     const auto source = torch_mlp->parameters(), target = converted_mlp->parameters();
     for (std::size_t i = 0; i < source.size(); ++i) target[i].copy_(source[i]);
   }
-  torch::serialize::OutputArchive torch_out;
-  reference.save(torch_out);
-  std::stringstream torch_bytes;
-  torch_out.save_to(torch_bytes);
-  torch::serialize::InputArchive torch_in;
-  torch_in.load_from(torch_bytes);
+  saveTo(torch_bytes, reference);
   FlatAdam converted(converted_mlp->parameters(), 0.01);
-  converted.load(torch_in);
+  loadInto(torch_bytes, converted);
 
   const torch::Tensor x = torch::randn({16, 7});
   restored.zeroGrad();
