@@ -2,12 +2,16 @@
 // together (env/vector_environment.hpp): in process or simulators reached over ROS.
 //
 // One update: every environment steps ceil(steps_per_update / N) times with actions drawn from
-// N(mean, action_std^2); observations are batched for one encoder pass. Episodes that end are
-// reset at once with the next training seed (< kFirstValidationSeed); a truncated episode's last
-// value is bootstrapped. Then GAE (lambda = 1 gives the Monte-Carlo returns of the paper's code),
-// normalised advantages and `epochs` passes of clipped-surrogate minibatch updates, stopped early
-// when the approximate KL exceeds 1.5 * target_kl. Frozen encoder by default: its features are
-// computed once per step and cached; with fine_tune the images are kept and re-encoded.
+// N(mean, action_std^2). With one libtorch thread (the default) each environment's thread
+// encodes its observation, chooses its action and steps on its own; with more, the environments
+// step in rounds and their observations are batched for one encoder pass. Either way each
+// environment draws its action noise and scene seeds from its own stream, so both give the same
+// episodes. Episodes that end are reset at once with the environment's next training seed
+// (< kFirstValidationSeed); a truncated episode's last value is bootstrapped. Then GAE (lambda = 1
+// gives the Monte-Carlo returns of the paper's code), normalised advantages and `epochs` passes of
+// clipped-surrogate minibatch updates, stopped early when the approximate KL exceeds 1.5 *
+// target_kl. Frozen encoder by default: its features are computed once per step and cached; with
+// fine_tune the images are kept and re-encoded.
 //
 // Run directory: training_episodes.csv, updates.csv, checkpoint.pt/.json (every checkpoint_every
 // updates and at the end; re-running the same command resumes: the episodes in flight are
@@ -104,7 +108,8 @@ struct PpoUpdate {
   double steps_per_second = 0.0;  // environment steps, including inference and the update
   // Where this update's wall time went [s]: waiting for the environments to step and reset
   // (including the observations' conversion on their threads and, with one libtorch thread,
-  // their encoding there too; with overlap one half renders while the trainer runs inference for
+  // their encoding there too, and the heads' passes there less their mean share, counted as
+  // inference; with overlap one half renders while the trainer runs inference for
   // the other, and only the wait that this does not hide counts), the network's forward passes
   // on the trainer's thread while collecting, and the optimisation.
   double environment_seconds = 0.0;
