@@ -259,8 +259,9 @@ class PpoTrainer {
     }
     resume();
     // A frozen encoder is the same for the whole run: prepared once for inference.
-    if (!options_.fine_tune)
+    if (!options_.fine_tune) {
       frozen_encoder_ = std::make_unique<InferenceEncoder>(*policy_->backbone());
+    }
 
     inputs_ = torch::zeros({count_, 4, input_format_.size, input_format_.size});
     rig_ = torch::zeros({count_, kRigInputs});
