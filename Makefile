@@ -34,8 +34,9 @@ test: build
 	@bash scripts/run_tests.sh $(BUILD)
 
 bench: build
-	$(CATKIN) occlusion_bench
+	$(CATKIN) occlusion_bench occlusion_learning_bench
 	$(IN_WS) $(DEVEL)/lib/occlusion_env/occlusion_bench
+	$(IN_WS) $(DEVEL)/lib/occlusion_env/occlusion_learning_bench
 
 format:
 	@find include src test bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i
