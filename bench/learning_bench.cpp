@@ -65,7 +65,7 @@ void BM_HeadsOptimiserStep(benchmark::State& state) {
   torch::set_num_threads(1);
   const bool flat = state.range(0) == 1;
   PolicyNetwork policy(NetworkConfig{}, PolicyConfig{});
-  const std::vector<torch::Tensor> parameters = policy->actorParameters();
+  std::vector<torch::Tensor> parameters = policy->actorParameters();
   std::unique_ptr<FlatAdam> flat_adam;
   std::unique_ptr<torch::optim::Adam> adam;
   if (flat) {
@@ -81,7 +81,7 @@ void BM_HeadsOptimiserStep(benchmark::State& state) {
     {
       torch::NoGradGuard no_grad;
       for (std::size_t i = 0; i < parameters.size(); ++i) {
-        torch::Tensor& grad = const_cast<torch::Tensor&>(parameters[i]).mutable_grad();
+        torch::Tensor& grad = parameters[i].mutable_grad();
         if (grad.defined()) {
           grad.copy_(gradients[i]);
         } else {

@@ -22,16 +22,24 @@ FlatAdam::FlatAdam(std::vector<torch::Tensor> parameters, double learning_rate)
     }
     offsets_.push_back(offsets_.back() + p.numel());
   }
-  gradients_ = torch::zeros({offsets_.back()});
-  exp_avg_ = torch::zeros({offsets_.back()});
-  exp_avg_sq_ = torch::zeros({offsets_.back()});
+  const std::int64_t size = offsets_.back();
+  gradients_ = torch::zeros({size});
+  exp_avg_ = torch::zeros({size});
+  exp_avg_sq_ = torch::zeros({size});
+  denominator_ = torch::empty({size});
+  update_ = torch::empty({size});
+  for (std::size_t i = 0; i < parameters_.size(); ++i) {
+    const auto range = torch::indexing::Slice(offsets_[i], offsets_[i + 1]);
+    gradient_views_.push_back(gradients_.index({range}).view_as(parameters_[i]));
+    update_views_.push_back(update_.index({range}).view_as(parameters_[i]));
+  }
   linkGradients();
 }
 
 void FlatAdam::linkGradients() {
   torch::NoGradGuard no_grad;
   for (std::size_t i = 0; i < parameters_.size(); ++i) {
-    torch::Tensor view = gradients_.slice(0, offsets_[i], offsets_[i + 1]).view_as(parameters_[i]);
+    const torch::Tensor& view = gradient_views_[i];
     torch::Tensor& grad = parameters_[i].mutable_grad();
     if (grad.defined() && grad.data_ptr() == view.data_ptr()) continue;
     if (grad.defined()) {
@@ -60,11 +68,9 @@ void FlatAdam::step(double max_grad_norm) {
   const double bias_correction2 = 1.0 - std::pow(kBeta2, static_cast<double>(steps_));
   exp_avg_.mul_(kBeta1).add_(gradients_, 1.0 - kBeta1);
   exp_avg_sq_.mul_(kBeta2).addcmul_(gradients_, gradients_, 1.0 - kBeta2);
-  const torch::Tensor denominator = (exp_avg_sq_.sqrt() / std::sqrt(bias_correction2)).add_(kEps);
-  const torch::Tensor update = exp_avg_.div(denominator).mul_(-learning_rate_ / bias_correction1);
-  for (std::size_t i = 0; i < parameters_.size(); ++i) {
-    parameters_[i].add_(update.slice(0, offsets_[i], offsets_[i + 1]).view_as(parameters_[i]));
-  }
+  torch::sqrt_out(denominator_, exp_avg_sq_).div_(std::sqrt(bias_correction2)).add_(kEps);
+  torch::div_out(update_, exp_avg_, denominator_).mul_(-learning_rate_ / bias_correction1);
+  for (std::size_t i = 0; i < parameters_.size(); ++i) parameters_[i].add_(update_views_[i]);
 }
 
 void FlatAdam::save(torch::serialize::OutputArchive& archive) const {

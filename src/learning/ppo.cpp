@@ -148,6 +148,21 @@ double secondsSince(Clock::time_point start) {
 
 constexpr int kMaxSkippedSeeds = 100;  // unusable training seeds in a row before giving up
 
+void reportSkippedSeed(std::uint64_t seed, const std::string& why) {
+  std::cerr << "occlusion_train_ppo: skipping training seed " << seed << ": " << why << "\n";
+}
+
+// A random stream's state as text (checkpoint.json), and back.
+std::string streamText(const std::mt19937_64& stream) {
+  std::ostringstream text;
+  text << stream;
+  return text.str();
+}
+void readStream(const std::string& text, std::mt19937_64& stream) {
+  std::istringstream in(text);
+  in >> stream;
+}
+
 constexpr double kLogSqrtTwoPi = 0.91893853320467274178;
 
 // Sum over the two action dimensions of log N(action; mean, std^2); std [2], one per axis.
@@ -404,12 +419,13 @@ class PpoTrainer {
     for (const double seconds : inference_seconds) inference += seconds / count_;
     inference_seconds_ += inference;
     environment_seconds_ += secondsSince(start) - inference;
-    for (int t = 0; t < steps_per_env; ++t) {
-      for (int i = 0; i < count_; ++i) {
-        for (const Ended& e : ended[i]) {
-          if (e.round == t) endEpisode(e.episode, first_step + std::int64_t(t + 1) * count_);
-        }
-      }
+    std::vector<Ended> in_order;  // by round, then environment (stable: environments in turn)
+    for (const auto& episodes : ended)
+      in_order.insert(in_order.end(), episodes.begin(), episodes.end());
+    std::stable_sort(in_order.begin(), in_order.end(),
+                     [](const Ended& a, const Ended& b) { return a.round < b.round; });
+    for (const Ended& e : in_order) {
+      endEpisode(e.episode, first_step + std::int64_t(e.round + 1) * count_);
     }
     progress_.env_steps = first_step + std::int64_t(steps_per_env) * count_;
   }
@@ -423,8 +439,7 @@ class PpoTrainer {
         return;
       } catch (const SceneGenerationError& error) {
         if (skipped >= kMaxSkippedSeeds) throw;
-        std::cerr << "occlusion_train_ppo: skipping training seed " << request.seed
-                  << ": environment " << i << ": " << error.what() << "\n";
+        reportSkippedSeed(request.seed, "environment " + std::to_string(i) + ": " + error.what());
       }
     }
   }
@@ -570,8 +585,7 @@ class PpoTrainer {
           break;
         } catch (const SceneGenerationError& error) {
           if (skipped >= kMaxSkippedSeeds) throw;
-          std::cerr << "occlusion_train_ppo: skipping training seed " << episodes_[i].seed << ": "
-                    << error.what() << "\n";
+          reportSkippedSeed(episodes_[i].seed, error.what());  // names the environment
           environments_->start(i, resetRequest(i));
         }
       }
@@ -740,16 +754,15 @@ class PpoTrainer {
     return figures;
   }
 
-  // One epoch's minibatches (the rows in `order`, in turn) of `part`, their figures in order.
+  // One epoch's minibatches (the rows of `order` [rows], in turn) of `part`, their figures in
+  // order.
   std::vector<MinibatchFigures> optimiseEpoch(Rollout& rollout, const torch::Tensor& advantages,
                                               const torch::Tensor& returns,
-                                              const std::vector<int64_t>& order, int minibatch,
+                                              const torch::Tensor& order, int minibatch,
                                               const torch::Tensor& std, Part part) {
     std::vector<MinibatchFigures> figures;
-    for (std::size_t first = 0; first + minibatch <= order.size(); first += minibatch) {
-      const torch::Tensor index =
-          torch::from_blob(const_cast<int64_t*>(order.data()) + first, {minibatch}, torch::kLong)
-              .clone();
+    for (int64_t first = 0; first + minibatch <= order.size(0); first += minibatch) {
+      const torch::Tensor index = order.slice(0, first, first + minibatch);
       figures.push_back(optimiseMinibatch(rollout, advantages, returns, index, std, part));
     }
     return figures;
@@ -776,21 +789,22 @@ class PpoTrainer {
     const bool actor_and_critic_apart = !options_.fine_tune && options_.threads == 1;
     for (int epoch = 0; epoch < options_.epochs; ++epoch) {
       std::shuffle(order.begin(), order.end(), progress_.random);
+      const torch::Tensor epoch_order = torch::tensor(order, torch::kLong);  // minibatches slice it
       std::vector<MinibatchFigures> epoch_figures;
       if (actor_and_critic_apart) {
         std::vector<MinibatchFigures> critic_figures;
         std::exception_ptr critic_error;
         std::thread critic_thread([&] {
           try {
-            critic_figures =
-                optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kCritic);
+            critic_figures = optimiseEpoch(rollout, advantages, returns, epoch_order, minibatch,
+                                           std, Part::kCritic);
           } catch (...) {
             critic_error = std::current_exception();
           }
         });
         try {
-          epoch_figures =
-              optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kActor);
+          epoch_figures = optimiseEpoch(rollout, advantages, returns, epoch_order, minibatch, std,
+                                        Part::kActor);
         } catch (...) {
           critic_thread.join();
           throw;
@@ -802,7 +816,7 @@ class PpoTrainer {
         }
       } else {
         epoch_figures =
-            optimiseEpoch(rollout, advantages, returns, order, minibatch, std, Part::kAll);
+            optimiseEpoch(rollout, advantages, returns, epoch_order, minibatch, std, Part::kAll);
       }
       double epoch_kl = 0.0;
       int epoch_batches = 0;
@@ -882,18 +896,14 @@ class PpoTrainer {
       archive.write("backbone_optimizer", backbone);
     }
     archive.save_to((dir / "checkpoint.pt.tmp").string());
-    std::ostringstream random;
-    random << progress_.random;
     nlohmann::json environment_random = nlohmann::json::array();
     for (const auto& stream : progress_.environment_random) {
-      std::ostringstream text;
-      text << stream;
-      environment_random.push_back(text.str());
+      environment_random.push_back(streamText(stream));
     }
     const nlohmann::json state = {
-        {"options", resumeKey(options_)},   {"updates", progress_.updates},
-        {"env_steps", progress_.env_steps}, {"episodes", progress_.episodes},
-        {"random", random.str()},           {"environment_random", environment_random}};
+        {"options", resumeKey(options_)},         {"updates", progress_.updates},
+        {"env_steps", progress_.env_steps},       {"episodes", progress_.episodes},
+        {"random", streamText(progress_.random)}, {"environment_random", environment_random}};
     {
       std::ofstream out(dir / "checkpoint.json.tmp");
       out << state.dump(2) << '\n';
@@ -936,15 +946,13 @@ class PpoTrainer {
     progress_.updates = state.at("updates").get<int>();
     progress_.env_steps = state.at("env_steps").get<std::int64_t>();
     progress_.episodes = state.at("episodes").get<std::int64_t>();
-    std::istringstream random(state.at("random").get<std::string>());
-    random >> progress_.random;
+    readStream(state.at("random").get<std::string>(), progress_.random);
     // Checkpoints from before the environments had streams of their own, or of another count of
     // environments, keep the streams the seed gives.
     const nlohmann::json& streams = state.value("environment_random", nlohmann::json::array());
     if (streams.size() == progress_.environment_random.size()) {
       for (std::size_t i = 0; i < streams.size(); ++i) {
-        std::istringstream text(streams[i].get<std::string>());
-        text >> progress_.environment_random[i];
+        readStream(streams[i].get<std::string>(), progress_.environment_random[i]);
       }
     }
     trimCsv(dir / kEpisodesCsv, kEpisodeHeader, progress_.episodes);

@@ -46,7 +46,10 @@ class FlatAdam {
   std::vector<torch::Tensor> parameters_;
   std::vector<std::int64_t> offsets_;  // parameter i is [offsets_[i], offsets_[i + 1])
   double learning_rate_;
-  torch::Tensor gradients_, exp_avg_, exp_avg_sq_;  // flat, float
+  // Flat, float; the step's denominator and update are kept so that a step allocates nothing.
+  torch::Tensor gradients_, exp_avg_, exp_avg_sq_, denominator_, update_;
+  // Parameter i's shape over gradients_ and update_, made once.
+  std::vector<torch::Tensor> gradient_views_, update_views_;
   std::int64_t steps_ = 0;
 };
 
