@@ -8,8 +8,10 @@ the stand-in's truth (occlusion/ground_truth/view) and scores each episode where
   - truly clear: the stand-in's own occlusion at the last view is below its threshold;
   - the bridge's verdict (the episode's success) agrees with that truth;
   - mean steps (failures at the step limit) against the oracle's on the same scenes, read from an
-    occlusion_eval episode CSV (the oracle's steps do not depend on the world or the sensor: it
-    reads the scene, not the camera).
+    occlusion_eval episode CSV (the oracle reads the scene, not the camera, so its steps do not
+    depend on the sensor; in a room they depend on the world, where the camera stays above the
+    floor: give --oracle-csv the oracle's episodes in the same world, e.g. occlusion_eval --scenes
+    config/scenes/test_sweethome3d.yaml --agents oracle --world room --out OUT).
 Writes OUT/bridge_episodes.csv (the agent's), OUT/bridge_truth.csv, OUT/bridge_summary.json and
 prints a summary. Run it in a sourced workspace (source .build_ws/devel/setup.bash) with
 /usr/bin/python3; it starts its own ROS master (roslaunch) when none runs.
@@ -71,7 +73,8 @@ def main():
                         "camera)")
     parser.add_argument("--oracle-csv",
                         default=os.path.join(ROOT, "doc/evaluation/test_sweethome3d_episodes.csv"),
-                        help="occlusion_eval episodes with the oracle's rows on the same seeds")
+                        help="occlusion_eval episodes with the oracle's rows on the same seeds, in "
+                        "the same world (default: the void's, from doc/evaluation/)")
     parser.add_argument("--out", required=True)
     parser.add_argument("--timeout", type=float, default=60.0, help="[s] per episode at most")
     args = parser.parse_args()

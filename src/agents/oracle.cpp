@@ -126,7 +126,7 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
   // Lattice points in order of their distance from `pose`. Points in Chebyshev ring r around the
   // nearest lattice point lie at least (r - 0.5) s away, so once ring r is queued every point
   // nearer than (r + 0.5) s is known.
-  const double limit = environment_.camera().elevationLimit();
+  const SphericalCamera& camera = environment_.camera();
   const double offset_azimuth = wrapAngle(pose.azimuth_rad - anchor_.azimuth_rad) / spacing_rad_;
   const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
   const int center_a = static_cast<int>(std::lround(offset_azimuth));
@@ -142,7 +142,7 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
   const auto push = [&](int a, int e) {
     const LatticeIndex index{a, e};
     const double elevation = latticePose(index).elevation_rad;
-    if (std::abs(elevation) > limit) return;
+    if (elevation < camera.lowestElevation() || elevation > camera.highestElevation()) return;
     const double distance = offsetOf(index).norm();
     if (distance > 0.0 && distance <= max_distance + 1e-12) queue.push({distance, index});
   };
@@ -198,9 +198,10 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
     anchor_ = pose;
     anchored_ = true;
   }
-  const double limit = environment_.camera().elevationLimit();
-  const double elevation_low = -limit - pose.elevation_rad;  // allowed offsets of the path
-  const double elevation_high = limit - pose.elevation_rad;
+  const SphericalCamera& camera = environment_.camera();
+  // Allowed elevation offsets of the path.
+  const double elevation_low = camera.lowestElevation() - pose.elevation_rad;
+  const double elevation_high = camera.highestElevation() - pose.elevation_rad;
   const std::optional<Eigen::Vector2d> target_offset = nearestUnoccludedLatticeOffset(pose);
   // One step lands exactly on the circle of radius h: worth a look when the lattice's answer is
   // at most two steps.

@@ -31,6 +31,12 @@ const OptionTable<CameraEnvironmentOptions>& cameraEnvironmentOptionTable() {
                  .unit("rad")
                  .atLeast(0)
                  .below(M_PI / 2.0))
+        .add("lowest_elevation", &Options::lowest_elevation_rad,
+             OptionSpec("goals are clamped to at least this elevation, the rig's lowest reach "
+                        "(e.g. above a floor or a table); never below -elevation_limit")
+                 .unit("rad")
+                 .above(-M_PI / 2.0)
+                 .below(M_PI / 2.0))
         .add("step_size", &Options::step_size_rad,
              OptionSpec("unit step").unit("rad").above(0).atMost(M_PI))
         .add("normalize_action", &Options::normalize_action,
@@ -70,6 +76,17 @@ const OptionTable<CameraEnvironmentOptions>& cameraEnvironmentOptionTable() {
 
 void CameraEnvironmentOptions::validate() const {
   cameraEnvironmentOptionTable().check(*this);
+  if (!(lowest_elevation_rad <= elevation_limit_rad)) {
+    throw InvalidArgumentError("option 'lowest_elevation' (" +
+                               std::to_string(lowest_elevation_rad) +
+                               " rad) must not lie above elevation_limit (" +
+                               std::to_string(elevation_limit_rad) + " rad)");
+  }
+}
+
+SphericalCamera CameraEnvironmentOptions::sphere() const {
+  return SphericalCamera(radius_m, std::max(lowest_elevation_rad, -elevation_limit_rad),
+                         elevation_limit_rad);
 }
 
 EpisodeRuleOptions CameraEnvironmentOptions::rule() const {
@@ -125,7 +142,7 @@ CameraEnvironment::CameraEnvironment(const CameraEnvironmentOptions& options, Ca
     : options_((options.validate(), options)),  // before the sphere is made of them
       rig_(rig),
       estimator_(estimator),
-      sphere_(options.radius_m, options.elevation_limit_rad),
+      sphere_(options.sphere()),
       rule_(options.rule()) {}
 
 void CameraEnvironment::takeView(const CameraFrame& frame, StepInfo& info) {
@@ -182,8 +199,11 @@ StepResult CameraEnvironment::reset(std::uint64_t seed, const ResetOptions& over
   if ((azimuth && !std::isfinite(*azimuth)) || (elevation && !std::isfinite(*elevation))) {
     throw InvalidArgumentError("start azimuth and elevation must be finite");
   }
-  if (elevation && !(std::abs(*elevation) <= options_.elevation_limit_rad)) {
-    throw InvalidArgumentError("start elevation must lie within +/- the elevation limit");
+  if (elevation &&
+      !(*elevation >= sphere_.lowestElevation() && *elevation <= sphere_.highestElevation())) {
+    throw InvalidArgumentError(
+        "start elevation must lie within [lowest_elevation, "
+        "elevation_limit] (the lowest never below -elevation_limit)");
   }
   rig_.arrangeScene(seed, overrides);
   const CameraFrame* frame = nullptr;

@@ -181,14 +181,12 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
   const SceneOptions scene_options = sceneOptionsFor(options_, overrides);
 
   const SceneSetup setup = drawSceneSetup(options_, seed);
-  const SphericalCamera camera(setup.radius_m, options_.elevation_limit_rad);
   RandomSource random(seed);
   const double azimuth_range = options_.start_azimuth_range_rad;
   const double drawn_azimuth = random.uniform(-azimuth_range, azimuth_range);
-  const SphericalPose start_pose =
-      camera.normalized({overrides.start_azimuth_rad.value_or(drawn_azimuth),
-                         overrides.start_elevation_rad.value_or(options_.start_elevation_rad)});
-  const Eigen::Isometry3d world_from_optical = camera.worldFromOptical(start_pose);
+  const SphericalPose requested_start{
+      overrides.start_azimuth_rad.value_or(drawn_azimuth),
+      overrides.start_elevation_rad.value_or(options_.start_elevation_rad)};
   CameraSensor& sensor = sensorFor(setup.depth_sensor);
   // Another camera needs another renderer; the current one is kept until a scene is accepted.
   std::unique_ptr<Renderer> previous_renderer;
@@ -212,6 +210,9 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
       Scene candidate = generateScene(*library_, scene_options, preset, random);
       candidate.scale = setup.scene_scale;
       std::unique_ptr<Room> candidate_room = roomFor(candidate, setup, random);
+      const SphericalCamera camera = cameraFor(setup, candidate_room.get());
+      const SphericalPose start_pose = camera.normalized(requested_start);
+      const Eigen::Isometry3d world_from_optical = camera.worldFromOptical(start_pose);
       placeScene(candidate, candidate_room.get());
       renderer_->render(world_from_optical, probe_buffers_);
       const int num_objects = static_cast<int>(candidate.objects.size());
@@ -254,6 +255,15 @@ StepResult Environment::reset(std::uint64_t seed, const ResetOptions& overrides)
           << seed << " (preset " << toString(preset)
           << "); raise max_scene_attempts or choose other objects";
   throw SceneGenerationError(message.str());
+}
+
+SphericalCamera Environment::cameraFor(const SceneSetup& setup, const Room* room) const {
+  const double limit = options_.elevation_limit_rad;
+  if (!room) return SphericalCamera(setup.radius_m, limit);
+  // In the scene's own units the camera stands at options_.radius_m (roomFor).
+  const double above_floor =
+      lowestElevationAbove(*room, options_.radius_m, options_.world.floor_clearance_m);
+  return SphericalCamera(setup.radius_m, std::clamp(above_floor, -limit, limit), limit);
 }
 
 std::unique_ptr<Room> Environment::roomFor(Scene& scene, const SceneSetup& setup,

@@ -172,6 +172,12 @@ void addWorldAndSensor(OptionTable<Options>& table) {
                      "counted, never in front of a target)")
               .range(0, 8))
       .add(
+          "floor_clearance", [](Options& o) -> double& { return o.world.floor_clearance_m; },
+          OptionSpec("room: the camera stays at least this high above the floor; lower poses are "
+                     "clamped to it")
+              .unit("m")
+              .atLeast(0))
+      .add(
           "depth_sensor", [](Options& o) -> std::string& { return o.sensor.depth_sensor; },
           OptionSpec("the camera's depth-sensor model; not ideal: colour noise, exposure, white "
                      "balance and blur too (doc/SENSORS.md); random: one drawn per scene")

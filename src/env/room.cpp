@@ -204,6 +204,10 @@ void WorldOptions::validate() const {
     throw InvalidArgumentError("option 'clutter' must be in [0, 8], got " +
                                std::to_string(clutter));
   }
+  if (!(floor_clearance_m >= 0.0 && std::isfinite(floor_clearance_m))) {
+    throw InvalidArgumentError("option 'floor_clearance' must be a finite number >= 0 m, got " +
+                               std::to_string(floor_clearance_m));
+  }
 }
 
 SceneBackground Room::background() const {
@@ -234,6 +238,12 @@ double standOnFloor(Scene& scene) {
     scene.objects[i].position_m.z() = floor + half_heights[i];
   }
   return floor;
+}
+
+double lowestElevationAbove(const Room& room, double camera_radius_m, double clearance_m) {
+  // The camera's height is camera_radius_m * sin(elevation).
+  const double lowest_height = room.floor_height_m + clearance_m;
+  return std::asin(std::clamp(lowest_height / camera_radius_m, -1.0, 1.0));
 }
 
 Room generateRoom(const Scene& scene, double floor_height_m, double camera_radius_m,

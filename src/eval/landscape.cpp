@@ -62,8 +62,8 @@ void writeEpisodePathsCsv(const std::vector<EpisodeRecord>& episodes, const std:
 }
 
 LandscapeGrid gridAround(const std::vector<EpisodeRecord>& paths, double margin_rad,
-                         double min_half_width_rad, double spacing_rad,
-                         double elevation_limit_rad) {
+                         double min_half_width_rad, double spacing_rad, double lowest_elevation_rad,
+                         double highest_elevation_rad) {
   LandscapeGrid grid;
   grid.spacing_rad = spacing_rad;
   double start_azimuth = 0.0, start_elevation = 0.0;
@@ -83,8 +83,8 @@ LandscapeGrid gridAround(const std::vector<EpisodeRecord>& paths, double margin_
       grid.elevation_max_rad = std::max(grid.elevation_max_rad, pose.elevation_rad + margin_rad);
     }
   }
-  grid.elevation_min_rad = std::max(grid.elevation_min_rad, -elevation_limit_rad);
-  grid.elevation_max_rad = std::min(grid.elevation_max_rad, elevation_limit_rad);
+  grid.elevation_min_rad = std::max(grid.elevation_min_rad, lowest_elevation_rad);
+  grid.elevation_max_rad = std::min(grid.elevation_max_rad, highest_elevation_rad);
   return grid;
 }
 

@@ -31,14 +31,23 @@ CameraIntrinsics CameraIntrinsics::fromFieldOfView(int width, int height,
 }
 
 SphericalCamera::SphericalCamera(double radius_m, double elevation_limit_rad)
-    : radius_m_(radius_m), elevation_limit_rad_(elevation_limit_rad) {
+    : SphericalCamera(radius_m, -elevation_limit_rad, elevation_limit_rad) {}
+
+SphericalCamera::SphericalCamera(double radius_m, double lowest_elevation_rad,
+                                 double highest_elevation_rad)
+    : radius_m_(radius_m),
+      lowest_elevation_rad_(lowest_elevation_rad),
+      highest_elevation_rad_(highest_elevation_rad) {
   if (!(std::isfinite(radius_m) && radius_m > 0.0)) {
     throw InvalidArgumentError("camera radius must be a positive number of metres, got " +
                                std::to_string(radius_m));
   }
-  if (!(elevation_limit_rad >= 0.0 && elevation_limit_rad < 0.5 * M_PI)) {
-    throw InvalidArgumentError("elevation limit must lie in [0, pi/2) rad, got " +
-                               std::to_string(elevation_limit_rad));
+  if (!(lowest_elevation_rad > -0.5 * M_PI && lowest_elevation_rad <= highest_elevation_rad &&
+        highest_elevation_rad < 0.5 * M_PI)) {
+    throw InvalidArgumentError(
+        "elevation range must satisfy -pi/2 < lowest <= highest < pi/2, got [" +
+        std::to_string(lowest_elevation_rad) + ", " + std::to_string(highest_elevation_rad) +
+        "] rad");
   }
 }
 
@@ -47,7 +56,7 @@ SphericalPose SphericalCamera::normalized(const SphericalPose& pose) const {
   // Wrap to (-pi, pi].
   out.azimuth_rad = std::remainder(pose.azimuth_rad, 2.0 * M_PI);
   if (out.azimuth_rad <= -M_PI) out.azimuth_rad += 2.0 * M_PI;
-  out.elevation_rad = std::clamp(pose.elevation_rad, -elevation_limit_rad_, elevation_limit_rad_);
+  out.elevation_rad = std::clamp(pose.elevation_rad, lowest_elevation_rad_, highest_elevation_rad_);
   return out;
 }
 

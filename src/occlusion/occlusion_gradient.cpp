@@ -329,10 +329,9 @@ GradientResult FiniteDifferenceOcclusionGradient::compute(RenderedView& view) {
   gradient[0] = (loss_at(pose.azimuth_rad + h, pose.elevation_rad) -
                  loss_at(pose.azimuth_rad - h, pose.elevation_rad)) /
                 (2.0 * h);
-  // renderAt clamps the elevation: difference over the part of [e - h, e + h] within the limit.
-  const double limit = view.camera().elevationLimit();
-  const double upper = std::min(pose.elevation_rad + h, limit);
-  const double lower = std::max(pose.elevation_rad - h, -limit);
+  // renderAt clamps the elevation: difference over the part of [e - h, e + h] within the range.
+  const double upper = std::min(pose.elevation_rad + h, view.camera().highestElevation());
+  const double lower = std::max(pose.elevation_rad - h, view.camera().lowestElevation());
   gradient[1] =
       upper > lower
           ? (loss_at(pose.azimuth_rad, upper) - loss_at(pose.azimuth_rad, lower)) / (upper - lower)

@@ -41,7 +41,8 @@ std::string runLandscape(const EvalOptions& cl, const std::string& scenes_path) 
   }
   env.reset(seed, resetOptionsFor(set));
   const LandscapeGrid grid = gridAround(paths, /*margin_rad=*/0.15, /*min_half_width_rad=*/0.6,
-                                        /*spacing_rad=*/0.025, env.camera().elevationLimit());
+                                        /*spacing_rad=*/0.025, env.camera().lowestElevation(),
+                                        env.camera().highestElevation());
   const std::string stem = set.name + "_landscape_" + std::to_string(seed);
   const std::string landscape_csv = (fs::path(cl.out) / (stem + ".csv")).string();
   const std::string paths_csv = (fs::path(cl.out) / (stem + "_paths.csv")).string();

@@ -204,7 +204,7 @@ CameraBridge::CameraBridge(const CameraBridgeOptions& options, ros::NodeHandle n
     : options_((options.validate(), options)),
       node_(std::move(node)),
       tf_(tf),
-      sphere_(options.environment.radius_m, options.environment.elevation_limit_rad),
+      sphere_(options.environment.sphere()),
       estimator_(estimatorFor(options)),
       environment_(options.environment, *this, estimator_.get()),
       rgb_subscriber_(node_, names::kRgbImageTopic, 5),

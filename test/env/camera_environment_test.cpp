@@ -167,6 +167,27 @@ TEST(CameraEnvironment, CropsToTheCentralSquareAndRefusesBlindViews) {
   EXPECT_EQ(bridge.episodeRule().stepIndex(), 1);
 }
 
+TEST(CameraEnvironment, GoalsStayWithinTheRigsElevations) {
+  FixedCamera camera;
+  CountingEstimator estimator;
+  CameraEnvironmentOptions options;
+  options.lowest_elevation_rad = 0.15;  // e.g. the arm cannot reach below the table top
+  CameraEnvironment bridge(options, camera, &estimator);
+  bridge.reset(0);  // the fixed camera is at elevation 0.2
+  StepResult result = bridge.step({0.0, -1.0});
+  EXPECT_NEAR(result.info.pose.elevation_rad, 0.15, 1e-9);
+  result = bridge.step({0.0, -1.0});
+  EXPECT_NEAR(result.info.pose.elevation_rad, 0.15, 1e-9);
+  ResetOptions below;
+  below.start_elevation_rad = 0.1;
+  EXPECT_THROW(bridge.reset(0, below), InvalidArgumentError);
+  // Never below -elevation_limit, whatever lowest_elevation says.
+  options.lowest_elevation_rad = -1.4;
+  options.elevation_limit_rad = 1.0;
+  EXPECT_DOUBLE_EQ(options.sphere().lowestElevation(), -1.0);
+  EXPECT_DOUBLE_EQ(options.sphere().highestElevation(), 1.0);
+}
+
 TEST(CameraEnvironment, RefusesOptionsOutsideTheirRangesByName) {
   FixedCamera camera;
   const auto refused = [&camera](auto change, const std::string& name) {
@@ -190,6 +211,8 @@ TEST(CameraEnvironment, RefusesOptionsOutsideTheirRangesByName) {
   refused([](CameraEnvironmentOptions& o) { o.occlusion_probability = 1.0; },
           "occlusion_probability");
   refused([](CameraEnvironmentOptions& o) { o.max_steps = 0; }, "max_steps");
+  refused([](CameraEnvironmentOptions& o) { o.lowest_elevation_rad = -1.6; }, "lowest_elevation");
+  refused([](CameraEnvironmentOptions& o) { o.lowest_elevation_rad = 1.5; }, "lowest_elevation");
   EXPECT_NO_THROW(CameraEnvironment(CameraEnvironmentOptions(), camera, nullptr));
 }
 

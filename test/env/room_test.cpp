@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "occlusion_env/agents/oracle.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
@@ -53,7 +54,8 @@ TEST(RoomTest, TargetsMasksAndOcclusionAreThoseWithoutTheRoom) {
           {&object.model->render, Eigen::Isometry3d(Eigen::Translation3d(object.position_m))});
     }
     bare->setScene(placed);
-    // Start view, then poses all round: from below the floor, from behind walls, from above.
+    // Start view, then poses all round: from low down (clamped above the floor), from behind
+    // walls, from above.
     const SphericalPose poses[] = {env.info().pose, {0.0, -1.2}, {2.0, 0.3},
                                    {-2.5, 0.0},     {1.0, 1.3},  {3.1, -0.5}};
     for (const SphericalPose& pose : poses) {
@@ -91,6 +93,61 @@ TEST(RoomTest, ObjectsStandOnTheFloorAndTheClutterOutsideTheCameraSphere) {
       EXPECT_NE(clutter.model->info.id, target.model->info.id);
     }
   }
+}
+
+// No rig takes a camera under the floor, and the floor is not drawn from below: the camera, its
+// start and the oracle's paths stay floor_clearance above it.
+TEST(RoomTest, TheCameraAndTheOracleStayAboveTheFloor) {
+  EnvironmentOptions options = roomOptions();
+  options.world.floor_clearance_m = 0.15;
+  Environment env(options);
+  const double limit = options.elevation_limit_rad;
+  int oracle_checked = 0;
+  for (const std::uint64_t seed : {5u, 9u, 14u}) {
+    ResetOptions below;
+    below.start_elevation_rad = -1.0;  // asked for under the floor: lifted to the lowest
+    env.reset(seed, below);
+    const Room& room = *env.room();
+    const double lowest = env.camera().lowestElevation();
+    EXPECT_NEAR(lowest, std::asin((room.floor_height_m + 0.15) / options.radius_m), 1e-12);
+    EXPECT_GT(lowest, -limit);
+    EXPECT_DOUBLE_EQ(env.camera().highestElevation(), limit);
+    EXPECT_DOUBLE_EQ(env.info().pose.elevation_rad, lowest) << seed;
+    const auto heightAboveFloor = [&] {
+      return env.info().world_from_optical.translation().z() - room.floor_height_m;
+    };
+    EXPECT_NEAR(heightAboveFloor(), 0.15, 1e-9) << seed;
+    for (int step = 0; step < 10; ++step) {
+      env.step({0.3, -1.0});
+      EXPECT_GE(heightAboveFloor(), 0.15 - 1e-9) << seed;
+    }
+    // From the lowest pose, wherever it is occluded, the oracle's way out stays above the floor.
+    for (const double azimuth : {0.0, 0.8, 1.6, 2.4, -0.8, -1.6, -2.4, 3.1}) {
+      const SphericalPose from{azimuth, lowest};
+      env.viewFrom(from);
+      if (env.info().occlusion.total_pixels == 0) continue;
+      OcclusionOracle oracle(env);
+      const OracleAnswer answer = oracle.query(from);
+      ASSERT_GT(answer.steps, 0) << seed;
+      EXPECT_GE(answer.target.elevation_rad, lowest - 1e-12) << seed;
+      double elevation = from.elevation_rad;
+      for (const Action& move : answer.path) {
+        elevation += move.d_elevation_rad;
+        EXPECT_GE(elevation, lowest - 1e-9) << seed;
+      }
+      ++oracle_checked;
+      break;
+    }
+  }
+  EXPECT_GE(oracle_checked, 2);
+
+  // The void has no floor: the camera goes as low as the limit.
+  options.world.world = "void";
+  Environment empty(options);
+  empty.reset(5);
+  EXPECT_DOUBLE_EQ(empty.camera().lowestElevation(), -limit);
+  options.world.floor_clearance_m = -0.1;
+  EXPECT_THROW(Environment{options}, InvalidArgumentError);
 }
 
 TEST(RoomTest, SameSeedSameRoomAndFramesTheVoidStaysBlack) {

@@ -63,18 +63,18 @@ TEST(Landscape, SamplesTheGridAndLeavesTheEpisodeAlone) {
   std::remove(path.c_str());
 }
 
-TEST(Landscape, GridHoldsEveryPathPoseWithinTheElevationLimit) {
+TEST(Landscape, GridHoldsEveryPathPoseWithinTheCamerasElevations) {
   EpisodeRecord first;
   first.agent = "gradient";
   first.path = {{0.2, 0.0}, {-0.9, 0.1}};
   EpisodeRecord second;
   second.agent = "random";
   second.path = {{0.2, 0.0}, {0.5, -1.3}};
-  const LandscapeGrid grid = gridAround({first, second}, 0.1, 0.3, 0.025, 1.2);
+  const LandscapeGrid grid = gridAround({first, second}, 0.1, 0.3, 0.025, -1.2, 0.25);
   EXPECT_DOUBLE_EQ(grid.azimuth_min_rad, -1.0);
   EXPECT_DOUBLE_EQ(grid.azimuth_max_rad, 0.6);
-  EXPECT_DOUBLE_EQ(grid.elevation_min_rad, -1.2);  // -1.4 clamped to the limit
-  EXPECT_DOUBLE_EQ(grid.elevation_max_rad, 0.3);   // the start's +/- 0.3
+  EXPECT_DOUBLE_EQ(grid.elevation_min_rad, -1.2);  // -1.4 clamped to the lowest
+  EXPECT_DOUBLE_EQ(grid.elevation_max_rad, 0.25);  // the start's + 0.3 clamped to the highest
   EXPECT_DOUBLE_EQ(grid.spacing_rad, 0.025);
 }
 

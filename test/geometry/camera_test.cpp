@@ -67,6 +67,22 @@ TEST(SphericalCameraTest, ClampsElevationAndWrapsAzimuth) {
   EXPECT_DOUBLE_EQ(camera.normalized({-M_PI, 0.0}).azimuth_rad, M_PI);  // (-pi, pi]
 }
 
+TEST(SphericalCameraTest, AnElevationRangeOfItsOwnClampsBothEnds) {
+  const SphericalCamera camera(4.0, -0.1, 1.2);  // e.g. above a floor
+  EXPECT_DOUBLE_EQ(camera.lowestElevation(), -0.1);
+  EXPECT_DOUBLE_EQ(camera.highestElevation(), 1.2);
+  EXPECT_DOUBLE_EQ(camera.moved({0.0, 0.0}, 0.0, -0.5).elevation_rad, -0.1);
+  EXPECT_DOUBLE_EQ(camera.moved({0.0, 1.0}, 0.0, 0.5).elevation_rad, 1.2);
+  EXPECT_DOUBLE_EQ(camera.moved({0.0, 0.0}, 0.0, -0.05).elevation_rad, -0.05);
+  const SphericalCamera symmetric(4.0, 1.2);
+  EXPECT_DOUBLE_EQ(symmetric.lowestElevation(), -1.2);
+  EXPECT_DOUBLE_EQ(symmetric.highestElevation(), 1.2);
+  EXPECT_THROW(SphericalCamera(4.0, 0.3, 0.2), InvalidArgumentError);  // lowest above highest
+  EXPECT_THROW(SphericalCamera(4.0, -M_PI / 2.0, 0.2), InvalidArgumentError);
+  EXPECT_THROW(SphericalCamera(4.0, NAN, 0.2), InvalidArgumentError);
+  EXPECT_NO_THROW(SphericalCamera(4.0, 0.2, 0.2));
+}
+
 TEST(SphericalCameraTest, SphericalPoseOfAPositionInvertsPosition) {
   const SphericalCamera camera(4.0, 80.0 * M_PI / 180.0);
   for (const SphericalPose pose : {SphericalPose{0.0, 0.0}, SphericalPose{0.3, -0.2},

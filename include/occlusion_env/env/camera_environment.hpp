@@ -70,6 +70,8 @@ class ViewOcclusionEstimator {
 struct CameraEnvironmentOptions {
   double radius_m = 4.0;
   double elevation_limit_rad = 1.3962634016;  // 80 deg
+  // The rig's lowest reach (above a floor or a table) [rad]; never below -elevation_limit.
+  double lowest_elevation_rad = -1.3962634016;
   double step_size_rad = 0.05;
   bool normalize_action = true;
   bool square_crop = true;  // agents get the central square, as in training
@@ -93,8 +95,12 @@ struct CameraEnvironmentOptions {
   /// The episode rule: intersection-normalised (Z = the reset view's estimate, at least 1: the
   /// union of the silhouettes cannot be estimated), ended by confirm_views clear step views.
   EpisodeRuleOptions rule() const;
-  /// Throws InvalidArgumentError naming the first option outside its range (the table's).
+  /// Throws InvalidArgumentError naming the first option outside its range (the table's) or a
+  /// lowest elevation above the limit.
   void validate() const;
+  /// The viewing sphere goals are clamped to: elevations within
+  /// [max(lowest_elevation, -elevation_limit), elevation_limit].
+  SphericalCamera sphere() const;
 };
 
 /// The declared options of CameraEnvironmentOptions, by the camera bridge's parameter names

@@ -145,6 +145,9 @@ class Environment : public EnvironmentInterface, public RenderedView {
   /// The room of a scene in `setup`'s room world (the scene then stands on its floor), drawn
   /// from `random`; nullptr in the void.
   std::unique_ptr<Room> roomFor(Scene& scene, const SceneSetup& setup, RandomSource& random);
+  /// The camera of a scene in `setup`: within +/- the elevation limit, and in a room never lower
+  /// than floor_clearance above its floor.
+  SphericalCamera cameraFor(const SceneSetup& setup, const Room* room) const;
   /// The sensor named `depth_sensor`, made on first use with the options' parameters.
   CameraSensor& sensorFor(const std::string& depth_sensor);
   void renderCurrent();

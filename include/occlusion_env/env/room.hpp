@@ -20,8 +20,13 @@ struct WorldOptions {
   /// Background objects from the catalogue (never a target's model) per room, 0..8. They stand
   /// outside the camera's sphere, so they can never come between the camera and a target.
   int clutter = 3;
+  /// The camera keeps at least this height above a room's floor [m, in the scene's own units]:
+  /// no rig can take it below the floor (the floor is one-sided: from below it would be looked
+  /// through). Poses lower than that are clamped to it, as poses beyond the elevation limit are.
+  double floor_clearance_m = 0.1;
 
-  /// Throws InvalidArgumentError for an unknown world or a clutter count outside 0..8.
+  /// Throws InvalidArgumentError for an unknown world, a clutter count outside 0..8 or a
+  /// negative floor clearance.
   void validate() const;
   bool isRoom() const { return world == "room"; }
 };
@@ -46,6 +51,11 @@ struct Room {
 /// Moves each object vertically so that its lowest point lies on a common floor: the lowest
 /// bottom among them. Returns the floor's height [m].
 double standOnFloor(Scene& scene);
+
+/// The lowest elevation [rad] at which a camera on a sphere of `camera_radius_m` about the origin
+/// stays `clearance_m` above the room's floor (-pi/2 when the whole sphere does, pi/2 when none
+/// of it does).
+double lowestElevationAbove(const Room& room, double camera_radius_m, double clearance_m);
 
 /// Draws a room around `scene` (standing on `floor_height_m`) for a camera on a sphere of
 /// `camera_radius_m` about the origin.

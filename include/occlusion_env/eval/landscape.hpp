@@ -32,9 +32,10 @@ void writeEpisodePathsCsv(const std::vector<EpisodeRecord>& episodes, const std:
 
 /// The grid around `paths` (all poses inside, with `margin_rad` to spare on each side, at least
 /// +/- `min_half_width_rad` around the first path's start) at `spacing_rad`, elevations within
-/// +/- `elevation_limit_rad`.
+/// [lowest_elevation_rad, highest_elevation_rad] (the camera's: SphericalCamera).
 LandscapeGrid gridAround(const std::vector<EpisodeRecord>& paths, double margin_rad,
-                         double min_half_width_rad, double spacing_rad, double elevation_limit_rad);
+                         double min_half_width_rad, double spacing_rad, double lowest_elevation_rad,
+                         double highest_elevation_rad);
 
 }  // namespace eval
 }  // namespace occlusion_env

@@ -2,7 +2,8 @@
 // Conventions (written down once, in doc/CONVENTIONS.md):
 //  - world frame: REP 103, x forward, y left, z up; metres; the scene centre is the origin.
 //  - azimuth: angle about world +z from +x towards +y [rad], wrapped to (-pi, pi].
-//  - elevation: angle above the horizontal xy plane [rad], clamped to [-limit, +limit].
+//  - elevation: angle above the horizontal xy plane [rad], clamped to [lowest, highest]
+//    (+/- the elevation limit unless something, e.g. a room's floor, sets a higher lowest).
 //  - position = radius * (cos(el) cos(az), cos(el) sin(az), sin(el)).
 //  - optical frame (REP 103 camera convention): z forward (towards the origin), x right, y down.
 #pragma once
@@ -40,13 +41,18 @@ struct CameraIntrinsics {
 
 class SphericalCamera {
  public:
-  /// Throws InvalidArgumentError unless radius > 0 and 0 <= elevation limit < pi/2.
+  /// Elevation within +/- `elevation_limit_rad`. Throws InvalidArgumentError unless radius > 0
+  /// and 0 <= elevation limit < pi/2.
   SphericalCamera(double radius_m, double elevation_limit_rad);
+  /// Elevation within [lowest, highest]. Throws InvalidArgumentError unless radius > 0 and
+  /// -pi/2 < lowest <= highest < pi/2.
+  SphericalCamera(double radius_m, double lowest_elevation_rad, double highest_elevation_rad);
 
   double radius() const { return radius_m_; }
-  double elevationLimit() const { return elevation_limit_rad_; }
+  double lowestElevation() const { return lowest_elevation_rad_; }
+  double highestElevation() const { return highest_elevation_rad_; }
 
-  /// Azimuth wrapped to (-pi, pi], elevation clamped to the limit.
+  /// Azimuth wrapped to (-pi, pi], elevation clamped to [lowest, highest].
   SphericalPose normalized(const SphericalPose& pose) const;
 
   /// `pose` moved by the given angle increments, then normalized.
@@ -64,7 +70,8 @@ class SphericalCamera {
 
  private:
   double radius_m_;
-  double elevation_limit_rad_;
+  double lowest_elevation_rad_;   // [rad]
+  double highest_elevation_rad_;  // [rad]
 };
 
 /// The azimuth and elevation of `position_m` seen from the sphere's centre (doc/CONVENTIONS.md),
