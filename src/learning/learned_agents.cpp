@@ -41,8 +41,8 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
 void NetworkDirectionAgent::reset(std::uint64_t) {}
 
 Action NetworkDirectionAgent::act(const RigObservation& observation) {
-  writeNetworkInput(observation.rgb, observation.depth, model_->network->config().inputFormat(),
-                    scratch_, input_.data_ptr<float>());
+  writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
+                    model_->network->config().inputFormat(), scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.
   auto& network = model_->network;

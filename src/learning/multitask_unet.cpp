@@ -49,6 +49,11 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                OptionSpec("how missing depth (a sensor's dropouts) enters: far = as the "
                           "background; filled = from the valid pixels around (network_input.hpp)")
                    .choices({"far", "filled"}))
+          .add("bounding_surfaces", &NetworkConfig::bounding_surfaces,
+               OptionSpec("how floors and walls enter: kept = as they are; cleared = as the "
+                          "void, found in the depth (network_input.hpp; needs the camera's "
+                          "intrinsics, so agents and the bridge only, never the trainer)")
+                   .choices({"kept", "cleared"}))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -70,20 +75,23 @@ void NetworkConfig::validate() const {
 }
 
 InputFormat NetworkConfig::inputFormat() const {
-  return {input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar};
+  return {input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar,
+          bounding_surfaces == "cleared"};
 }
 
 nlohmann::json NetworkConfig::toJson() const {
   nlohmann::json json = networkConfigTable().toJson(*this);
-  // Only with the head, so that networks without one keep the identity they always had.
+  // Only with the head or the clearing, so that networks without keep the identity they always
+  // had.
   if (escape_bins == 0) json.erase("escape_bins");
+  if (bounding_surfaces == "kept") json.erase("bounding_surfaces");
   return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    // "far" and 0 when absent: recorded before they existed.
-    if (key == "depth_gaps" || key == "escape_bins") continue;
+    // "far", 0 and "kept" when absent: recorded before they existed.
+    if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces") continue;
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
   }
   NetworkConfig config;

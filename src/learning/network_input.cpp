@@ -1,6 +1,8 @@
 #include "occlusion_env/learning/network_input.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "occlusion_env/common/errors.hpp"
@@ -95,8 +97,11 @@ void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch) {
   resizeTo(scratch.valid, target, scratch.valid_small);         // the valid fraction
 }
 
-void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
-                       InputScratch& scratch, float* out) {
+namespace {
+
+// The images resized and normalised into `out`, in `format` but for its bounding surfaces.
+void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
+                 InputScratch& scratch, float* out) {
   if (rgb.type() != CV_8UC3 || depth.type() != CV_32FC1 || rgb.size() != depth.size() ||
       rgb.empty()) {
     throw InvalidArgumentError("network input: needs CV_8UC3 RGB and CV_32FC1 depth of one size");
@@ -115,6 +120,75 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputForm
     writeDepthFilled(depth, size, scratch, out + 3 * plane);
   } else {
     writeDepthFar(depth, size, scratch, out + 3 * plane);
+  }
+}
+
+}  // namespace
+
+CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
+                                int size) {
+  CameraIntrinsics grid = intrinsics;
+  const double sx = static_cast<double>(size) / image_size.width;
+  const double sy = static_cast<double>(size) / image_size.height;
+  grid.width = grid.height = size;
+  grid.fx *= sx;
+  grid.fy *= sy;
+  grid.cx = (intrinsics.cx + 0.5) * sx - 0.5;
+  grid.cy = (intrinsics.cy + 0.5) * sy - 0.5;
+  return grid;
+}
+
+void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
+                              int size, BoundingSurfaceFinder& finder, InputScratch& scratch) {
+  scratch.grid_depth.create(size, size, CV_32FC1);
+  for (int row = 0; row < size; ++row) {
+    const float* sum = scratch.depth_small.ptr<float>(row);
+    const float* fraction = scratch.valid_small.ptr<float>(row);
+    float* out = scratch.grid_depth.ptr<float>(row);
+    for (int col = 0; col < size; ++col) {
+      out[col] = fraction[col] >= 0.5f ? sum[col] / fraction[col]
+                                       : std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+  finder.find(scratch.grid_depth, gridIntrinsics(intrinsics, image_size, size), scratch.on_surface);
+}
+
+void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
+                       InputScratch& scratch, float* out) {
+  if (format.clear_bounding_surfaces) {
+    throw InvalidArgumentError(
+        "network input: this model clears the view's floors and walls (bounding_surfaces: "
+        "cleared), which needs the camera's intrinsics; frames without them (the datasets') "
+        "cannot be its input");
+  }
+  writeImages(rgb, depth, format, scratch, out);
+}
+
+void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                       const InputFormat& format, InputScratch& scratch, float* out) {
+  if (format.clear_bounding_surfaces && !(intrinsics.fx > 0.0 && intrinsics.fy > 0.0)) {
+    throw InvalidArgumentError(
+        "network input: this model clears the view's floors and walls (bounding_surfaces: "
+        "cleared) and needs the camera's intrinsics; none were given");
+  }
+  writeImages(rgb, depth, format, scratch, out);
+  if (!format.clear_bounding_surfaces) return;
+  const int size = format.size;
+  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
+  if (!scratch.surfaces) scratch.surfaces = std::make_unique<BoundingSurfaceFinder>();
+  findGridBoundingSurfaces(intrinsics, rgb.size(), size, *scratch.surfaces, scratch);
+  // The void: black, far.
+  const float black = (0.0f - 0.5f) / 0.25f;
+  const float far = normalisedDepth(kFar);
+  const std::size_t plane = static_cast<std::size_t>(size) * size;
+  for (int row = 0; row < size; ++row) {
+    const std::uint8_t* surface = scratch.on_surface.ptr<std::uint8_t>(row);
+    for (int col = 0; col < size; ++col) {
+      if (!surface[col]) continue;
+      const std::size_t i = static_cast<std::size_t>(row) * size + col;
+      out[i] = out[plane + i] = out[2 * plane + i] = black;
+      out[3 * plane + i] = far;
+    }
   }
 }
 

@@ -30,36 +30,15 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
                                                        const CameraIntrinsics& intrinsics,
                                                        const cv::Size& image_size) {
   const int size = small_mask_.rows;
-  // Each network pixel's depth: the mean of the readings of its block (none: NaN). The filled
-  // input has summed them already.
+  // The filled input has summed the valid depths already.
   if (model_->network->config().inputFormat().depth_gaps != DepthGaps::kFilled) {
     sumValidDepth(depth, size, scratch_);
   }
-  depth_small_.create(small_mask_.size(), CV_32FC1);
-  for (int row = 0; row < size; ++row) {
-    const float* sum = scratch_.depth_small.ptr<float>(row);
-    const float* fraction = scratch_.valid_small.ptr<float>(row);
-    float* out = depth_small_.ptr<float>(row);
-    for (int col = 0; col < size; ++col) {
-      // At least half of the block read: a mean over a few speckles is no surface.
-      out[col] = fraction[col] >= 0.5f ? sum[col] / fraction[col]
-                                       : std::numeric_limits<float>::quiet_NaN();
-    }
-  }
-  // The intrinsics of the network's grid (pixel centres map to pixel centres).
-  CameraIntrinsics small = intrinsics;
-  const double sx = static_cast<double>(size) / image_size.width;
-  const double sy = static_cast<double>(size) / image_size.height;
-  small.width = small.height = size;
-  small.fx *= sx;
-  small.fy *= sy;
-  small.cx = (intrinsics.cx + 0.5) * sx - 0.5;
-  small.cy = (intrinsics.cy + 0.5) * sy - 0.5;
-  surfaces_->find(depth_small_, small, on_surface_);
+  findGridBoundingSurfaces(intrinsics, image_size, size, *surfaces_, scratch_);
   std::int64_t cleared = 0;
   for (int row = 0; row < size; ++row) {
     std::uint8_t* verdict = small_mask_.ptr<std::uint8_t>(row);
-    const std::uint8_t* surface = on_surface_.ptr<std::uint8_t>(row);
+    const std::uint8_t* surface = scratch_.on_surface.ptr<std::uint8_t>(row);
     for (int col = 0; col < size; ++col) {
       if (verdict[col] && surface[col]) {
         verdict[col] = 0;
@@ -68,13 +47,15 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
     }
   }
   // In image pixels, as the estimate counts.
-  return static_cast<std::int64_t>(std::llround(cleared / (sx * sy)));
+  const double grid_area = static_cast<double>(size) * size;
+  return static_cast<std::int64_t>(
+      std::llround(cleared * static_cast<double>(image_size.area()) / grid_area));
 }
 
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
                                                const CameraIntrinsics& intrinsics, cv::Mat& mask) {
   const int size = model_->network->config().input_size;
-  writeNetworkInput(rgb, depth, model_->network->config().inputFormat(), scratch_,
+  writeNetworkInput(rgb, depth, intrinsics, model_->network->config().inputFormat(), scratch_,
                     input_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor logits = model_->network->forward(input_).occlusion_logits.contiguous();

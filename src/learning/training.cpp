@@ -501,6 +501,7 @@ nlohmann::json initialModelManifest(const TrainingOptions& options) {
   const auto architecture = [](const NetworkConfig& network) {
     nlohmann::json json = network.toJson();
     json.erase("depth_gaps");
+    json.erase("bounding_surfaces");
     json.erase("input_size");
     json.erase("escape_bins");
     return json;

@@ -632,6 +632,53 @@ TEST(LearningTest, FilledDepthGapsLookLikeTheSurfaceAroundThem) {
   for (int i = 0; i < 3 * 32 * 32; ++i) ASSERT_EQ(filled[i], far[i]) << "colour as before";
 }
 
+// bounding_surfaces: cleared: a wall behind a box enters as the void (black, far), the box as
+// it is; a model that clears needs the camera's intrinsics, and its manifest says so.
+TEST(LearningTest, AClearedInputSeesTheWallBehindABoxAsTheVoid) {
+  const cv::Mat rgb(128, 128, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::Mat depth(128, 128, CV_32FC1, cv::Scalar(2.0f));
+  depth(cv::Rect(32, 32, 64, 64)).setTo(1.2f);  // network pixels 8..23 of 32
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 3.0);
+  InputScratch scratch;
+  const std::size_t plane = 32 * 32;
+  std::vector<float> kept(4 * plane), cleared(4 * plane);
+  for (const DepthGaps gaps : {DepthGaps::kFar, DepthGaps::kFilled}) {
+    writeNetworkInput(rgb, depth, intrinsics, InputFormat(32, gaps), scratch, kept.data());
+    writeNetworkInput(rgb, depth, intrinsics, InputFormat(32, gaps, true), scratch, cleared.data());
+    int on_wall = 0;
+    for (int row = 0; row < 32; ++row) {
+      for (int col = 0; col < 32; ++col) {
+        const std::size_t i = static_cast<std::size_t>(row) * 32 + col;
+        const bool box = row >= 8 && row < 24 && col >= 8 && col < 24;
+        if (box) {
+          for (int c = 0; c < 4; ++c) EXPECT_EQ(cleared[c * plane + i], kept[c * plane + i]);
+          continue;
+        }
+        ++on_wall;
+        for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(cleared[c * plane + i], -2.0f);  // black
+        EXPECT_FLOAT_EQ(cleared[3 * plane + i], 2.0f);                               // far
+        EXPECT_LT(kept[3 * plane + i], 0.0f);                                        // 2 m
+      }
+    }
+    EXPECT_EQ(on_wall, 32 * 32 - 16 * 16);
+  }
+  EXPECT_THROW(writeNetworkInput(rgb, depth, InputFormat(32, DepthGaps::kFilled, true), scratch,
+                                 cleared.data()),
+               InvalidArgumentError);
+  EXPECT_THROW(
+      writeNetworkInput(rgb, depth, CameraIntrinsics{}, InputFormat(32, DepthGaps::kFilled, true),
+                        scratch, cleared.data()),
+      InvalidArgumentError);
+
+  NetworkConfig config;
+  EXPECT_FALSE(config.toJson().contains("bounding_surfaces")) << "older models' identity kept";
+  EXPECT_FALSE(config.inputFormat().clear_bounding_surfaces);
+  config.bounding_surfaces = "cleared";
+  EXPECT_TRUE(NetworkConfig::fromJson(config.toJson()).inputFormat().clear_bounding_surfaces);
+  config.bounding_surfaces = "removed";
+  EXPECT_THROW(config.validate(), InvalidArgumentError);
+}
+
 // A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed).
 std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
   NetworkConfig config;

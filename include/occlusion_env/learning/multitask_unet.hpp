@@ -36,7 +36,9 @@ struct NetworkConfig {
   int levels = 5;
   int input_size = 64;             // [px], a multiple of 2^levels
   std::string depth_gaps = "far";  // far | filled: how missing depth enters (network_input.hpp)
-  int escape_bins = 0;             // directions scored by the escape-bins head; 0 = no such head
+  // kept | cleared: whether floors and walls enter as they are or as the void (network_input.hpp)
+  std::string bounding_surfaces = "kept";
+  int escape_bins = 0;  // directions scored by the escape-bins head; 0 = no such head
 
   bool residual() const { return variant != "unet"; }
   bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
@@ -50,7 +52,8 @@ struct NetworkConfig {
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
   /// Refuses unknown names and a missing field (every manifest states the whole network), but
-  /// depth_gaps and escape_bins, which models recorded before they existed lack: "far" and 0.
+  /// depth_gaps, escape_bins and bounding_surfaces, which models recorded before they existed
+  /// lack: "far", 0 and "kept".
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 

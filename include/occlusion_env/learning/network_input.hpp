@@ -12,9 +12,19 @@
 //           valid 8-neighbours when at least 4 of them are valid (a sensor's speckle and edge
 //           dropouts), else it is far (the void, large holes). A real depth camera's dropouts
 //           then look like the surface around them, not like holes to the background.
+// Floors and walls (a model's bounding_surfaces):
+//   kept:    the view as it is;
+//   cleared: the network pixels on the view's bounding surfaces (large planes with nothing seen
+//            behind them: occlusion/bounding_surfaces.hpp, found in the network pixels' mean
+//            depth) enter as the void, black and far, so that a network trained on objects in
+//            the void sees a room as the void around its objects. Needs the camera's intrinsics.
 #pragma once
 
+#include <memory>
 #include <opencv2/core.hpp>
+
+#include "occlusion_env/geometry/camera.hpp"
+#include "occlusion_env/occlusion/bounding_surfaces.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -23,18 +33,23 @@ constexpr double kFarDepthM = 8.0;  // beyond the sphere (r = 4 m) and every obj
 
 enum class DepthGaps { kFar, kFilled };
 
-/// The network's input: its size and how missing depth enters (NetworkConfig::inputFormat()).
+/// The network's input: its size, how missing depth enters and whether floors and walls do
+/// (NetworkConfig::inputFormat()).
 struct InputFormat {
   // From a size alone (implicitly): the input of the models before DepthGaps existed.
-  InputFormat(int size_px = 64, DepthGaps gaps = DepthGaps::kFar)  // NOLINT(runtime/explicit)
-      : size(size_px), depth_gaps(gaps) {}
+  InputFormat(int size_px = 64, DepthGaps gaps = DepthGaps::kFar,  // NOLINT(runtime/explicit)
+              bool clear_surfaces = false)
+      : size(size_px), depth_gaps(gaps), clear_bounding_surfaces(clear_surfaces) {}
   int size;  // [px], width and height
   DepthGaps depth_gaps;
+  bool clear_bounding_surfaces;  // the view's floors and walls enter as the void
 };
 
 /// The resized images between calls (no allocation once sized).
 struct InputScratch {
   cv::Mat depth_filled, valid, rgb_small, depth_small, valid_small;
+  cv::Mat grid_depth, on_surface;  // size x size: mean depth [m], 255 on a bounding surface
+  std::unique_ptr<BoundingSurfaceFinder> surfaces;  // made on first use
 };
 
 /// The valid depth readings of each network pixel's block: their sum over the block's area
@@ -43,11 +58,29 @@ struct InputScratch {
 /// is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already there.
 void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch);
 
+/// The intrinsics of the network's size x size grid over an image of `image_size` seen with
+/// `intrinsics` (pixel centres map to pixel centres).
+CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
+                                int size);
+
+/// Finds the bounding surfaces (floors, walls) of the view whose valid depths sumValidDepth has
+/// summed into `scratch` at `size` x `size`: each network pixel's depth is the mean of its
+/// block's readings, none (NaN) where fewer than half of it read, since a mean over a few
+/// speckles is no surface. Writes scratch.grid_depth and scratch.on_surface (255 on a surface).
+void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
+                              int size, BoundingSurfaceFinder& finder, InputScratch& scratch);
+
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
 /// `format` into `out` (4 * size * size floats, channel-major). Throws InvalidArgumentError on
-/// wrong types or sizes.
+/// wrong types or sizes, and for a format that clears bounding surfaces (it needs intrinsics).
 void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
                        InputScratch& scratch, float* out);
+
+/// The same for a camera with `intrinsics` (of rgb and depth): any format. Throws
+/// InvalidArgumentError also when the format clears bounding surfaces and the intrinsics have
+/// no focal length.
+void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraIntrinsics& intrinsics,
+                       const InputFormat& format, InputScratch& scratch, float* out);
 
 }  // namespace learning
 }  // namespace occlusion_env

@@ -54,10 +54,8 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
-  // With surfaces: the depth at the network's resolution (the mean of each block's readings)
-  // and what the finder marks there.
+  // With surfaces: the finder, run on the network pixels' mean depths (network_input.hpp).
   std::optional<BoundingSurfaceFinder> surfaces_;
-  cv::Mat depth_small_, on_surface_;
 };
 
 /// The network's estimate where the camera bridge's logic asks for one
