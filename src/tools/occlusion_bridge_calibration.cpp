@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,14 @@ void checkSeeds(const Arguments& args) {
         std::to_string(args.first_seed + args.scenes - 1) +
         " reach the test range (>= 1,000,000): choose thresholds on validation scenes");
   }
+}
+
+/// `value` with one decimal, leaving std::cout's format as it was (a probability such as 0.15
+/// printed after it must keep its digits).
+std::string oneDecimal(double value) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(1) << value;
+  return text.str();
 }
 
 // One view of an episode: the truth and the estimate at each probability threshold.
@@ -195,8 +204,7 @@ void printHeader(const Arguments& args, const std::vector<std::vector<View>>& vi
             << "agent's network: " << (args.agent_model.empty() ? args.model : args.agent_model)
             << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
-            << " scenes, after " << std::fixed << std::setprecision(1)
-            << steps_to_clear / args.scenes << std::defaultfloat
+            << " scenes, after " << oneDecimal(steps_to_clear / args.scenes)
             << " steps on average (where the simulator stops)\n\n"
             << "| probability | threshold [px] | confirm views | stops on a clear view | stops "
                "too early (median true L there [px]) | never stops | mean steps to the stop |\n"
@@ -226,8 +234,7 @@ void printRule(const Arguments& args, const std::vector<std::vector<View>>& view
   std::cout << "| " << args.probabilities[p] << " | " << static_cast<std::int64_t>(threshold)
             << " | " << confirm << " | " << clear << " | " << early_pixels.size();
   if (!early_pixels.empty()) std::cout << " (" << early_pixels[early_pixels.size() / 2] << ")";
-  std::cout << " | " << never << " | " << std::fixed << std::setprecision(1) << steps / args.scenes
-            << std::defaultfloat << " |\n";
+  std::cout << " | " << never << " | " << oneDecimal(steps / args.scenes) << " |\n";
 }
 
 int run(const Arguments& args) {
