@@ -23,18 +23,27 @@ OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   small_mask_.create(size, size, CV_8UC1);
-  if (surfaces) surfaces_.emplace(*surfaces);
+  if (surfaces) {
+    surfaces_.emplace(*surfaces);
+    // A model that clears floors and walls from its input finds them with the same options, so
+    // that the estimate's clearing reuses what the input found.
+    if (model_->network->config().inputFormat().clear_bounding_surfaces) {
+      scratch_.surfaces = std::make_unique<BoundingSurfaceFinder>(*surfaces);
+    }
+  }
 }
 
 std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
                                                        const CameraIntrinsics& intrinsics,
                                                        const cv::Size& image_size) {
   const int size = small_mask_.rows;
-  // The filled input has summed the valid depths already.
-  if (model_->network->config().inputFormat().depth_gaps != DepthGaps::kFilled) {
-    sumValidDepth(depth, size, scratch_);
+  const InputFormat format = model_->network->config().inputFormat();
+  // An input that clears them has found this view's surfaces already, with these options.
+  if (!format.clear_bounding_surfaces) {
+    // The filled input has summed the valid depths already.
+    if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
+    findGridBoundingSurfaces(intrinsics, image_size, size, *surfaces_, scratch_);
   }
-  findGridBoundingSurfaces(intrinsics, image_size, size, *surfaces_, scratch_);
   std::int64_t cleared = 0;
   for (int row = 0; row < size; ++row) {
     std::uint8_t* verdict = small_mask_.ptr<std::uint8_t>(row);

@@ -679,10 +679,13 @@ TEST(LearningTest, AClearedInputSeesTheWallBehindABoxAsTheVoid) {
   EXPECT_THROW(config.validate(), InvalidArgumentError);
 }
 
-// A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed).
-std::shared_ptr<LoadedModel> constantOcclusionModel(float logit) {
+// A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed);
+// `bounding_surfaces` as the manifest's field.
+std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,
+                                                    const std::string& bounding_surfaces = "kept") {
   NetworkConfig config;
   config.input_size = 32;
+  config.bounding_surfaces = bounding_surfaces;
   auto model = std::make_shared<LoadedModel>();
   model->network = MultiTaskUNet(config);
   model->network->eval();
@@ -745,9 +748,16 @@ TEST(LearningTest, OcclusionEstimatedOnAWallIsClearedAndOnAnObjectInFrontOfItKep
   EXPECT_EQ(on_the_box.cleared_pixels, 128 * 128 - box.area());
   EXPECT_EQ(cv::countNonZero(mask(box)), box.area());
   EXPECT_EQ(cv::countNonZero(mask), box.area());
+  // A model that clears its input finds the same surfaces there, and the estimate reuses them.
+  OcclusionEstimator cleared_input(constantOcclusionModel(1.0f, "cleared"), 0.5,
+                                   BoundingSurfaceOptions{});
+  const OcclusionEstimate reused = cleared_input.estimate(rgb, depth, intrinsics, mask);
+  EXPECT_EQ(reused.occluded_pixels, box.area());
+  EXPECT_EQ(reused.cleared_pixels, 128 * 128 - box.area());
   // The wall alone: nothing left.
   depth(box).setTo(2.0f);
   EXPECT_EQ(clearing.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
+  EXPECT_EQ(cleared_input.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
 }
 
 TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
