@@ -71,7 +71,7 @@ std::string cameraModelPath() {
 }
 
 std::string bridgeModelPath() {
-  return packageShareDirectory() + "/models/multitask_unet64_camera_cleared.pt";
+  return packageShareDirectory() + "/models/multitask_unet64_bridge.pt";
 }
 
 AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,

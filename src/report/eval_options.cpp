@@ -71,8 +71,8 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "or wall (its ~clear_bounding_surfaces)"))
       .add("bridge_probability", &O::bridge_probability,
            OptionSpec("with --through-bridge: a pixel counts as occluded above this probability "
-                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.01 "
-                      "was multitask_unet64_bridge.pt's, 0.1 the camera model's)")
+                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
+                      "was the camera model's)")
                .above(0)
                .below(1));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,

@@ -30,7 +30,7 @@ namespace occlusion_env {
 namespace learning {
 namespace {
 
-constexpr double kBridgeOcclusionProbability = 0.2;         // config/camera_bridge.yaml's default
+constexpr double kBridgeOcclusionProbability = 0.01;        // config/camera_bridge.yaml's default
 constexpr int kSize = 128;                                  // [px], the training frames' size
 constexpr double kFocalPx = kSize / (2.0 * 0.57735026919);  // 60 deg horizontal field of view
 

@@ -82,7 +82,7 @@ struct CameraEnvironmentOptions {
   // The stopping rule and reward on the estimate (doc/CAMERA_BRIDGE.md).
   // For the caller's network: a pixel is occluded above it (chosen for the shipped bridge
   // network by occlusion_bridge_calibration: doc/CAMERA_BRIDGE.md).
-  double occlusion_probability = 0.2;
+  double occlusion_probability = 0.01;
   // For the caller's network: estimated occlusion on a floor or wall (occlusion/
   // bounding_surfaces.hpp) is cleared; such a surface shows no object, so none is hidden there.
   bool clear_bounding_surfaces = true;

@@ -40,11 +40,10 @@ class NetworkDirectionAgent : public Agent {
 /// the network of the paper's tables, trained in the void with perfect depth.
 std::string defaultModelPath();
 /// The shipped model for a depth camera: the same weights, reading depth with its dropouts filled
-/// (depth_gaps filled, doc/TRAINING.md).
+/// (depth_gaps filled, doc/TRAINING.md). The camera bridge's estimate was fine-tuned from it.
 std::string cameraModelPath();
-/// The camera bridge's default network, whose estimate ends an episode, and the agent's behind a
-/// camera: the camera model seeing floors and walls as the void (bounding_surfaces cleared,
-/// doc/TRAINING.md, "Floors and walls as the void").
+/// The camera bridge's default network, whose estimate ends an episode: the camera model
+/// fine-tuned on rooms seen from above (doc/TRAINING.md, "Views from above").
 std::string bridgeModelPath();
 
 /// A registry entry for an agent made from a model file: needs.model_file set, `make` given the
