@@ -123,8 +123,8 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   }
 }
 
-}  // namespace
-
+// The intrinsics of the network's size x size grid over an image of `image_size` seen with
+// `intrinsics` (pixel centres map to pixel centres).
 CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
                                 int size) {
   CameraIntrinsics grid = intrinsics;
@@ -138,8 +138,11 @@ CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Si
   return grid;
 }
 
+}  // namespace
+
 void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
-                              int size, BoundingSurfaceFinder& finder, InputScratch& scratch) {
+                              BoundingSurfaceFinder& finder, InputScratch& scratch) {
+  const int size = scratch.depth_small.rows;
   scratch.grid_depth.create(size, size, CV_32FC1);
   for (int row = 0; row < size; ++row) {
     const float* sum = scratch.depth_small.ptr<float>(row);
@@ -176,7 +179,7 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   const int size = format.size;
   if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
   if (!scratch.surfaces) scratch.surfaces = std::make_unique<BoundingSurfaceFinder>();
-  findGridBoundingSurfaces(intrinsics, rgb.size(), size, *scratch.surfaces, scratch);
+  findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch);
   // The void: black, far.
   const float black = (0.0f - 0.5f) / 0.25f;
   const float far = normalisedDepth(kFar);

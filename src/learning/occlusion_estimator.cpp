@@ -42,7 +42,7 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
   if (!format.clear_bounding_surfaces) {
     // The filled input has summed the valid depths already.
     if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
-    findGridBoundingSurfaces(intrinsics, image_size, size, *surfaces_, scratch_);
+    findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);
   }
   std::int64_t cleared = 0;
   for (int row = 0; row < size; ++row) {

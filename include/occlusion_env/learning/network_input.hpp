@@ -58,17 +58,13 @@ struct InputScratch {
 /// is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already there.
 void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch);
 
-/// The intrinsics of the network's size x size grid over an image of `image_size` seen with
-/// `intrinsics` (pixel centres map to pixel centres).
-CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
-                                int size);
-
-/// Finds the bounding surfaces (floors, walls) of the view whose valid depths sumValidDepth has
-/// summed into `scratch` at `size` x `size`: each network pixel's depth is the mean of its
-/// block's readings, none (NaN) where fewer than half of it read, since a mean over a few
-/// speckles is no surface. Writes scratch.grid_depth and scratch.on_surface (255 on a surface).
+/// Finds the bounding surfaces (floors, walls) of the view (`image_size`, seen with
+/// `intrinsics`) whose valid depths sumValidDepth has summed into `scratch` at the network's
+/// size: each network pixel's depth is the mean of its block's readings, none (NaN) where fewer
+/// than half of it read, since a mean over a few speckles is no surface. Writes
+/// scratch.grid_depth and scratch.on_surface (255 on a surface).
 void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
-                              int size, BoundingSurfaceFinder& finder, InputScratch& scratch);
+                              BoundingSurfaceFinder& finder, InputScratch& scratch);
 
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
 /// `format` into `out` (4 * size * size floats, channel-major). Throws InvalidArgumentError on
