@@ -38,9 +38,14 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
   if (bins > 0) bin_angles_ = escapeBinAngles(bins).view({1, bins});
 }
 
-void NetworkDirectionAgent::reset(std::uint64_t) {}
+void NetworkDirectionAgent::reset(std::uint64_t) {
+  elevation_limit_ = ElevationLimitTracker();
+  recent_views_ = RevisitGuard();
+}
 
 Action NetworkDirectionAgent::act(const RigObservation& observation) {
+  elevation_limit_.observe(observation);
+  recent_views_.observe(observation);
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
                     model_->network->config().inputFormat(), scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
@@ -58,8 +63,13 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   if (!std::isfinite(sin) || !std::isfinite(cos) || (sin == 0.0f && cos == 0.0f)) {
     throw std::runtime_error("the network predicted no direction");
   }
-  return {cos,
-          sin};  // theta = atan2(d_elevation, d_azimuth): (d_azimuth, d_elevation) = (cos, sin)
+  // theta = atan2(d_elevation, d_azimuth): (d_azimuth, d_elevation) = (cos, sin)
+  const Action predicted{cos, sin};
+  if (head_ == DirectionHead::kGradient) return predicted;  // the paper's agent, as it was
+  // Ours: along a floor that stopped the rig, and aside from a view it has just left.
+  const double side = observation.last_action.d_azimuth_rad < 0.0 ? -1.0 : 1.0;
+  return elevation_limit_.alongTheLimit(
+      recent_views_.awayFromRecentViews(elevation_limit_.alongTheLimit(predicted, side)), side);
 }
 
 std::string defaultModelPath() {
@@ -113,7 +123,8 @@ AgentEntry predictedEscapeAgentEntry() {
   return networkEntry("predicted_escape",
                       "a unit move along the escape direction (the oracle's first step) the "
                       "multi-task network predicts from the RGB-D image alone (with an "
-                      "escape-bins head: its best bin, leaning towards the last move)",
+                      "escape-bins head: its best bin, leaning towards the last move); along a "
+                      "floor that stopped the rig, aside from a view it has just left",
                       "", DirectionHead::kEscape);
 }
 

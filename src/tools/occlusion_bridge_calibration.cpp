@@ -7,6 +7,7 @@
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -44,6 +45,7 @@ struct Arguments {
   bool millimetre_depth = false;
   bool clear_bounding_surfaces = occlusion_env::CameraEnvironmentOptions{}.clear_bounding_surfaces;
   int size = 256;
+  std::string views_csv;  // "": no file
 
   Arguments() : model(occlusion_env::learning::bridgeModelPath()) {
     options.catalog.source = "sweethome3d";
@@ -81,7 +83,11 @@ const OptionTable<Arguments>& argumentTable() {
                OptionSpec("clear estimated occlusion on a floor or wall (the bridge's "
                           "~clear_bounding_surfaces)"))
           .add("size", &Arguments::size,
-               OptionSpec("image width and height").unit("px").range(64, 1024));
+               OptionSpec("image width and height").unit("px").range(64, 1024))
+          .add("views_csv", &Arguments::views_csv,
+               OptionSpec("also write every view (seed, step, the true occlusion and the "
+                          "estimate at each probability, in px) to this CSV file, to study "
+                          "other stopping rules"));
   return table;
 }
 
@@ -237,8 +243,27 @@ void printRule(const Arguments& args, const std::vector<std::vector<View>>& view
   std::cout << " | " << never << " | " << oneDecimal(steps / args.scenes) << " |\n";
 }
 
+/// Every view of every path, one row each, for rules this tool does not print.
+void writeViewsCsv(const Arguments& args, const std::vector<std::vector<View>>& views) {
+  std::ofstream file(args.views_csv);
+  if (!file) throw occlusion_env::InvalidArgumentError("cannot write " + args.views_csv);
+  file << "seed,step,true_px";
+  for (const double probability : args.probabilities) file << ",estimated_px_at_" << probability;
+  file << "\n";
+  for (std::size_t scene = 0; scene < views.size(); ++scene) {
+    for (std::size_t t = 0; t < views[scene].size(); ++t) {
+      file << args.first_seed + static_cast<long long>(scene) << "," << t << ","
+           << views[scene][t].true_pixels;
+      for (const std::int64_t pixels : views[scene][t].estimated_pixels) file << "," << pixels;
+      file << "\n";
+    }
+  }
+  if (!file) throw occlusion_env::InvalidArgumentError("cannot write " + args.views_csv);
+}
+
 int run(const Arguments& args) {
   const std::vector<std::vector<View>> views = collectViews(args);
+  if (!args.views_csv.empty()) writeViewsCsv(args, views);
   printHeader(args, views);
   for (std::size_t p = 0; p < args.probabilities.size(); ++p) {
     for (const double threshold : args.thresholds) {
@@ -266,7 +291,7 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, environmentOptionTable(), args.options, {"max_steps"});
   tools::addOptionFlags(app, argumentTable(), args,
                         {"thresholds", "probabilities", "confirm_views", "millimetre_depth",
-                         "clear_bounding_surfaces"});
+                         "clear_bounding_surfaces", "views_csv"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"catalog_source", "categories", "model_split", "world", "depth_sensor"});
   tools::addOptionFlags(app, argumentTable(), args, {"size"});

@@ -43,7 +43,8 @@ TEST(OracleTest, TheOracleAgentRealisesTheBoundAndNoAgentBeatsIt) {
     const auto oracle_agent = registry.make("oracle", {environment, ""});
     const EpisodeRecord record = runEpisode(environment, *oracle_agent, request, run);
     EXPECT_TRUE(record.success()) << "seed " << seed << ": " << record.message;
-    EXPECT_EQ(record.steps, finer_bound.steps) << "seed " << seed << ": the agent realises its bound";
+    EXPECT_EQ(record.steps, finer_bound.steps)
+        << "seed " << seed << ": the agent realises its bound";
     for (const std::string& name : registry.competitors()) {
       request.agent = name;
       const auto agent = registry.make(name, {environment, ""});

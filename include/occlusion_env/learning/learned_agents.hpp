@@ -8,6 +8,8 @@
 #include <string>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/agents/elevation_limit.hpp"
+#include "occlusion_env/agents/revisit_guard.hpp"
 #include "occlusion_env/learning/inference_encoder.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/network_input.hpp"
@@ -20,7 +22,12 @@ enum class DirectionHead { kGradient, kEscape };
 /// Moves one unit step along the direction the network's `head` predicts for the current image.
 /// With an escape-bins head the escape direction is the head's best bin, leaning towards the
 /// rig's last move (escapeDirectionFromLogits with a bias of cos(theta_k - theta_last)).
-/// Inference allocates nothing once the first observation has sized its buffers.
+/// The escape agent (not the paper's predicted-gradient agent) also reads the rig's own path:
+/// where the rig stopped its last move at an elevation limit (a floor: ElevationLimitTracker), a
+/// direction further that way turns along the limit, and a move that would land back on one of
+/// its last views turns aside (RevisitGuard), so that it neither pushes into a floor nor swings
+/// between two views until the step limit. Inference allocates nothing once the first observation
+/// has sized its buffers.
 class NetworkDirectionAgent : public Agent {
  public:
   NetworkDirectionAgent(std::shared_ptr<LoadedModel> model, DirectionHead head);
@@ -34,6 +41,8 @@ class NetworkDirectionAgent : public Agent {
   InputScratch scratch_;
   torch::Tensor input_;
   torch::Tensor bin_angles_;  // [1, escape_bins] [rad], with an escape-bins head
+  ElevationLimitTracker elevation_limit_;
+  RevisitGuard recent_views_;
 };
 
 /// The shipped model the learned agents use by default in the simulator (models/, doc/AGENTS.md):
