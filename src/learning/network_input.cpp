@@ -140,6 +140,12 @@ CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Si
 
 }  // namespace
 
+BoundingSurfaceOptions clearedInputSurfaceOptions() {
+  BoundingSurfaceOptions options;
+  options.tolerance_per_m2 = 0.001;
+  return options;
+}
+
 void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
                               BoundingSurfaceFinder& finder, InputScratch& scratch) {
   const int size = scratch.depth_small.rows;
@@ -178,16 +184,19 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   if (!format.clear_bounding_surfaces) return;
   const int size = format.size;
   if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
-  if (!scratch.surfaces) scratch.surfaces = std::make_unique<BoundingSurfaceFinder>();
+  if (!scratch.surfaces) {
+    scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
+  }
   findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch);
-  // The void: black, far.
+  // The void: black, far; on a bounding surface, or where no depth was read at all.
   const float black = (0.0f - 0.5f) / 0.25f;
   const float far = normalisedDepth(kFar);
   const std::size_t plane = static_cast<std::size_t>(size) * size;
   for (int row = 0; row < size; ++row) {
     const std::uint8_t* surface = scratch.on_surface.ptr<std::uint8_t>(row);
+    const float* valid_fraction = scratch.valid_small.ptr<float>(row);
     for (int col = 0; col < size; ++col) {
-      if (!surface[col]) continue;
+      if (!surface[col] && valid_fraction[col] > 0.0f) continue;
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
       out[i] = out[plane + i] = out[2 * plane + i] = black;
       out[3 * plane + i] = far;

@@ -23,14 +23,9 @@ OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   small_mask_.create(size, size, CV_8UC1);
-  if (surfaces) {
-    surfaces_.emplace(*surfaces);
-    // A model that clears floors and walls from its input finds them with the same options, so
-    // that the estimate's clearing reuses what the input found.
-    if (model_->network->config().inputFormat().clear_bounding_surfaces) {
-      scratch_.surfaces = std::make_unique<BoundingSurfaceFinder>(*surfaces);
-    }
-  }
+  // A model that clears floors and walls from its input has found them there (with the input's
+  // options, clearedInputSurfaceOptions()); the estimate's clearing reuses what it found.
+  if (surfaces) surfaces_.emplace(*surfaces);
 }
 
 std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
@@ -38,7 +33,7 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
                                                        const cv::Size& image_size) {
   const int size = small_mask_.rows;
   const InputFormat format = model_->network->config().inputFormat();
-  // An input that clears them has found this view's surfaces already, with these options.
+  // An input that clears them has found this view's surfaces already, with its own options.
   if (!format.clear_bounding_surfaces) {
     // The filled input has summed the valid depths already.
     if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);

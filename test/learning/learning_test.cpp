@@ -679,6 +679,95 @@ TEST(LearningTest, AClearedInputSeesTheWallBehindABoxAsTheVoid) {
   EXPECT_THROW(config.validate(), InvalidArgumentError);
 }
 
+TEST(LearningTest, AClearedInputShowsWhereNoDepthWasReadAsTheVoid) {
+  const cv::Mat rgb(128, 128, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::Mat depth(128, 128, CV_32FC1, cv::Scalar(2.0f));
+  depth(cv::Rect(32, 32, 64, 64)).setTo(1.2f);  // a box before a wall, as above
+  // Beyond the sensor's range: network pixels 0..3 x 0..3 read nothing; 28..31 x 0..3 read a
+  // quarter of their blocks (too little for a plane point, but not nothing).
+  depth(cv::Rect(0, 0, 16, 16)).setTo(std::numeric_limits<float>::quiet_NaN());
+  for (int row = 0; row < 16; ++row) {
+    for (int col = 112; col < 128; ++col) {
+      if (row % 2 == 1 || col % 2 == 1) depth.at<float>(row, col) = NAN;
+    }
+  }
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 3.0);
+  InputScratch scratch;
+  const std::size_t plane = 32 * 32;
+  std::vector<float> kept(4 * plane), cleared(4 * plane);
+  writeNetworkInput(rgb, depth, intrinsics, InputFormat(32, DepthGaps::kFilled), scratch,
+                    kept.data());
+  writeNetworkInput(rgb, depth, intrinsics, InputFormat(32, DepthGaps::kFilled, true), scratch,
+                    cleared.data());
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) {
+      const std::size_t i = static_cast<std::size_t>(row) * 32 + col;
+      EXPECT_GT(kept[i], -2.0f) << "kept: the wall's colour stays";
+      for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(cleared[c * plane + i], -2.0f);  // black
+      EXPECT_FLOAT_EQ(cleared[3 * plane + i], 2.0f);                               // far
+    }
+  }
+  // The box, and the network pixels that read a quarter of their blocks, are as the kept input
+  // has them.
+  for (int row = 0; row < 24; ++row) {
+    for (int col = 8; col < 32; ++col) {
+      const bool box = row >= 8 && col < 24, quarter = row < 4 && col >= 28;
+      if (!box && !quarter) continue;
+      const std::size_t i = static_cast<std::size_t>(row) * 32 + col;
+      for (int c = 0; c < 4; ++c) EXPECT_EQ(cleared[c * plane + i], kept[c * plane + i]);
+    }
+  }
+}
+
+TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
+  // A camera 1 m above a floor looking level; a box's front face 3 m ahead stands on the floor,
+  // 0.5 m tall. At 3 m the finder's default tolerance (2 cm + 4 mm/m^2 z^2 = 5.6 cm) takes the
+  // box's lowest rows for floor; a cleared input's (2 cm + 1 mm/m^2 z^2 = 2.9 cm) leaves them.
+  const int size = 256, grid = 64;
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(size, size, M_PI / 3.0);
+  cv::Mat depth(size, size, CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+  cv::Mat box(size, size, CV_8UC1, cv::Scalar(0));
+  for (int v = 0; v < size; ++v) {
+    const double y = (v - intrinsics.cy) / intrinsics.fy;  // ray's drop per metre ahead
+    for (int u = 0; u < size; ++u) {
+      const double x = (u - intrinsics.cx) / intrinsics.fx;
+      const bool face = std::abs(x * 3.0) < 0.6 && y * 3.0 >= 0.5 && y * 3.0 < 1.0;
+      if (face) {
+        depth.at<float>(v, u) = 3.0f;
+        box.at<std::uint8_t>(v, u) = 255;
+      } else if (y > 0.0) {
+        depth.at<float>(v, u) = static_cast<float>(1.0 / y);  // the floor
+      }
+    }
+  }
+  const cv::Mat rgb(size, size, CV_8UC3, cv::Scalar(120, 120, 120));
+  std::vector<float> cleared(4 * grid * grid);
+  InputScratch scratch;
+  writeNetworkInput(rgb, depth, intrinsics, InputFormat(grid, DepthGaps::kFilled, true), scratch,
+                    cleared.data());
+  const cv::Mat cleared_input_surface = scratch.on_surface.clone();
+  BoundingSurfaceFinder default_finder;
+  findGridBoundingSurfaces(intrinsics, rgb.size(), default_finder, scratch);
+  int box_cells = 0, cleared_box_cells = 0, default_box_cells = 0, floor_cells = 0;
+  for (int row = 0; row < grid; ++row) {
+    for (int col = 0; col < grid; ++col) {
+      const cv::Rect block(col * 4, row * 4, 4, 4);
+      const int box_pixels = cv::countNonZero(box(block));
+      if (box_pixels == 16) {
+        ++box_cells;
+        cleared_box_cells += cleared_input_surface.at<std::uint8_t>(row, col) != 0;
+        default_box_cells += scratch.on_surface.at<std::uint8_t>(row, col) != 0;
+      } else if (box_pixels == 0 && row > grid / 2 + 1) {
+        floor_cells += cleared_input_surface.at<std::uint8_t>(row, col) != 0;
+      }
+    }
+  }
+  ASSERT_GT(box_cells, 100);
+  EXPECT_GT(floor_cells, 500) << "the floor is found";
+  EXPECT_GT(default_box_cells, 0) << "the finder's default takes the box's feet for floor";
+  EXPECT_EQ(cleared_box_cells, 0) << "the cleared input keeps them";
+}
+
 // A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed);
 // `bounding_surfaces` as the manifest's field.
 std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,

@@ -16,8 +16,10 @@
 //   kept:    the view as it is;
 //   cleared: the network pixels on the view's bounding surfaces (large planes with nothing seen
 //            behind them: occlusion/bounding_surfaces.hpp, found in the network pixels' mean
-//            depth) enter as the void, black and far, so that a network trained on objects in
-//            the void sees a room as the void around its objects. Needs the camera's intrinsics.
+//            depth with clearedInputSurfaceOptions()) enter as the void, black and far, so that
+//            a network trained on objects in the void sees a room as the void around its
+//            objects; so do the network pixels with no depth reading at all (a wall beyond the
+//            sensor's range), as the void's background has none. Needs the camera's intrinsics.
 #pragma once
 
 #include <memory>
@@ -57,6 +59,12 @@ struct InputScratch {
 /// scratch.valid_small, both size x size; their mean is the one over the other. The filled input
 /// is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already there.
 void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch);
+
+/// The plane search of a cleared input: the finder's defaults but a tolerance that grows only
+/// 1 mm/m^2 with depth (not 4), so that the feet of an object standing on the floor stay in
+/// view (at 4 m 3.6 cm above the floor, not 8.4); chosen on validation scenes in rooms with each
+/// depth-sensor model (doc/TRAINING.md, "Floors and walls as the void for the agent").
+BoundingSurfaceOptions clearedInputSurfaceOptions();
 
 /// Finds the bounding surfaces (floors, walls) of the view (`image_size`, seen with
 /// `intrinsics`) whose valid depths sumValidDepth has summed into `scratch` at the network's

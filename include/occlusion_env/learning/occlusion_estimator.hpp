@@ -28,7 +28,9 @@ class OcclusionEstimator {
   /// A pixel counts as occluded where the network's probability exceeds
   /// `probability_threshold` (0.5: the threshold of the validation IoU). With `surfaces`, a
   /// network pixel whose depth lies on a bounding surface (a floor, a wall:
-  /// occlusion/bounding_surfaces.hpp) is never occluded. Throws InvalidArgumentError for a
+  /// occlusion/bounding_surfaces.hpp) is never occluded; found with `surfaces`, or, for a model
+  /// whose input clears them, with the input's options (clearedInputSurfaceOptions(): the
+  /// planes its input showed as the void). Throws InvalidArgumentError for a
   /// missing model, a threshold outside (0, 1) or bad surface options.
   explicit OcclusionEstimator(std::shared_ptr<LoadedModel> model,
                               double probability_threshold = 0.5,
