@@ -11,10 +11,6 @@ constexpr double kStoppedShare = 0.5;
 // [rad] below this the rig did not move in elevation at all (a move that asked for elevation only).
 constexpr double kNoMoveRad = 1e-4;
 
-double wrappedAngle(double angle_rad) {
-  return std::remainder(angle_rad, 2.0 * M_PI);
-}
-
 }  // namespace
 
 void ElevationLimitTracker::observe(const RigObservation& observation) {
@@ -26,8 +22,7 @@ void ElevationLimitTracker::observe(const RigObservation& observation) {
     return;
   }
   const Action& asked = observation.last_action;
-  const double moved_azimuth =
-      wrappedAngle(observation.pose.azimuth_rad - previous_pose_.azimuth_rad);
+  const double moved_azimuth = azimuthChange(previous_pose_, observation.pose);
   const double moved_elevation = observation.pose.elevation_rad - previous_pose_.elevation_rad;
   previous_pose_ = observation.pose;
   const double asked_length = std::hypot(asked.d_azimuth_rad, asked.d_elevation_rad);

@@ -11,10 +11,6 @@
 namespace occlusion_env {
 namespace {
 
-double wrapAngle(double angle) {
-  return std::remainder(angle, 2.0 * M_PI);  // in [-pi, pi]
-}
-
 Action move(double direction_rad, double length) {
   return {length * std::cos(direction_rad), length * std::sin(direction_rad)};
 }
@@ -127,7 +123,7 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
   // nearest lattice point lie at least (r - 0.5) s away, so once ring r is queued every point
   // nearer than (r + 0.5) s is known.
   const SphericalCamera& camera = environment_.camera();
-  const double offset_azimuth = wrapAngle(pose.azimuth_rad - anchor_.azimuth_rad) / spacing_rad_;
+  const double offset_azimuth = azimuthChange(anchor_, pose) / spacing_rad_;
   const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
   const int center_a = static_cast<int>(std::lround(offset_azimuth));
   const int center_e = static_cast<int>(std::lround(offset_elevation));

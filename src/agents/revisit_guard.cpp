@@ -3,13 +3,6 @@
 #include <cmath>
 
 namespace occlusion_env {
-namespace {
-
-double wrappedAngle(double angle_rad) {
-  return std::remainder(angle_rad, 2.0 * M_PI);
-}
-
-}  // namespace
 
 void RevisitGuard::observe(const RigObservation& observation) {
   if (observation.step_index == 0 || known_poses_ == 0) {
@@ -19,7 +12,7 @@ void RevisitGuard::observe(const RigObservation& observation) {
     last_azimuth_sign_ = 1.0;
     return;
   }
-  const double moved_azimuth = wrappedAngle(observation.pose.azimuth_rad - poses_[0].azimuth_rad);
+  const double moved_azimuth = azimuthChange(poses_[0], observation.pose);
   const double moved_elevation = observation.pose.elevation_rad - poses_[0].elevation_rad;
   const double length = std::hypot(moved_azimuth, moved_elevation);
   if (length > 0.0) step_length_rad_ = length;
@@ -32,12 +25,12 @@ void RevisitGuard::observe(const RigObservation& observation) {
 }
 
 bool RevisitGuard::landsOnARecentView(const Action& unit_direction) const {
-  const double azimuth = poses_[0].azimuth_rad + step_length_rad_ * unit_direction.d_azimuth_rad;
-  const double elevation =
-      poses_[0].elevation_rad + step_length_rad_ * unit_direction.d_elevation_rad;
+  const SphericalPose landing{
+      poses_[0].azimuth_rad + step_length_rad_ * unit_direction.d_azimuth_rad,
+      poses_[0].elevation_rad + step_length_rad_ * unit_direction.d_elevation_rad};
   for (int k = 1; k < known_poses_; ++k) {
-    const double distance = std::hypot(wrappedAngle(azimuth - poses_[k].azimuth_rad),
-                                       elevation - poses_[k].elevation_rad);
+    const double distance = std::hypot(azimuthChange(poses_[k], landing),
+                                       landing.elevation_rad - poses_[k].elevation_rad);
     if (distance < 0.5 * step_length_rad_) return true;
   }
   return false;

@@ -51,6 +51,10 @@ SphericalCamera::SphericalCamera(double radius_m, double lowest_elevation_rad,
   }
 }
 
+double azimuthChange(const SphericalPose& from, const SphericalPose& to) {
+  return std::remainder(to.azimuth_rad - from.azimuth_rad, 2.0 * M_PI);
+}
+
 SphericalPose SphericalCamera::normalized(const SphericalPose& pose) const {
   SphericalPose out;
   // Wrap to (-pi, pi].

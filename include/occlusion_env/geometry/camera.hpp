@@ -18,6 +18,9 @@ struct SphericalPose {
   double elevation_rad = 0.0;
 };
 
+/// The azimuth from `from` to `to` the short way round, in [-pi, pi] [rad].
+double azimuthChange(const SphericalPose& from, const SphericalPose& to);
+
 /// Pinhole intrinsics in ROS's convention: pixel centres at integer coordinates, so the principal
 /// point of a W x H image is ((W - 1) / 2, (H - 1) / 2).
 struct CameraIntrinsics {
