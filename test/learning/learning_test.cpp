@@ -786,6 +786,59 @@ std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,
   return model;
 }
 
+// A fresh 32 px network whose gradient and escape heads both say (sin, cos), whatever they see.
+std::shared_ptr<LoadedModel> constantDirectionModel(float sin, float cos) {
+  NetworkConfig config;
+  config.input_size = 32;
+  auto model = std::make_shared<LoadedModel>();
+  model->network = MultiTaskUNet(config);
+  model->network->eval();
+  torch::NoGradGuard no_grad;
+  for (auto& parameter : model->network->named_parameters()) {
+    for (const std::string head : {"gradient_head", "escape_head"}) {
+      if (parameter.key() == head + ".2.weight") parameter.value().zero_();
+      if (parameter.key() == head + ".2.bias") {
+        parameter.value()[0] = sin;
+        parameter.value()[1] = cos;
+      }
+    }
+  }
+  return model;
+}
+
+TEST(LearningTest, TheEscapeAgentTurnsAlongAFloorThatStopsItAndThePapersAgentDoesNot) {
+  const auto model = constantDirectionModel(-0.95f, 0.3f);  // down, a little to +azimuth
+  const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 90, 90));
+  const cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(3.0f));
+  const double floor_rad = -0.08, step_rad = 0.05;
+  for (const DirectionHead head : {DirectionHead::kEscape, DirectionHead::kGradient}) {
+    NetworkDirectionAgent agent(model, head);
+    agent.reset(1);
+    SphericalPose pose{0.0, floor_rad + 0.02};
+    Action last;
+    for (int t = 0; t < 6; ++t) {
+      RigObservation observation{rgb, depth};
+      observation.intrinsics = CameraIntrinsics::fromFieldOfView(64, 64, M_PI / 3.0);
+      observation.pose = pose;
+      observation.last_action = last;
+      observation.step_index = t;
+      const Action action = agent.act(observation);
+      const bool along_the_floor = action.d_elevation_rad == 0.0 && action.d_azimuth_rad > 0.0;
+      if (head == DirectionHead::kEscape && t >= 1) {
+        EXPECT_TRUE(along_the_floor) << "step " << t << ": " << action.d_elevation_rad;
+      } else {
+        EXPECT_LT(action.d_elevation_rad, 0.0) << "step " << t;  // as the network says
+      }
+      // The rig: a step of step_rad along the action, its elevation stopped at the floor.
+      const double length = std::hypot(action.d_azimuth_rad, action.d_elevation_rad);
+      pose.azimuth_rad += step_rad * action.d_azimuth_rad / length;
+      pose.elevation_rad =
+          std::max(floor_rad, pose.elevation_rad + step_rad * action.d_elevation_rad / length);
+      last = action;
+    }
+  }
+}
+
 TEST(LearningTest, ShiftedFramesMoveWithTheirMasks) {
   torch::manual_seed(3);
   const int64_t n = 64, size = 16;
