@@ -17,8 +17,8 @@ class RevisitGuard {
   /// `direction` (d_azimuth, d_elevation), or, where a move along it of the rig's step length
   /// (the length of its last move) would land within half a step of one of the last
   /// kRememberedPoses poses, the smallest turn of it (45, 90, 135 deg, to one side, then the
-  /// other) that does not. Unchanged before the first move, or when
-  /// every turn lands on a recent view.
+  /// other) that does not. Unchanged before the first move, or when every turn lands on a
+  /// recent view.
   Action awayFromRecentViews(const Action& direction) const;
 
   static constexpr int kRememberedPoses = 4;  // the current pose and the 3 before it
