@@ -17,6 +17,7 @@ void ElevationLimitTracker::observe(const RigObservation& observation) {
   if (observation.step_index == 0 || !has_previous_) {
     blocked_direction_ = 0;
     along_sign_ = 0;
+    last_azimuth_sign_ = 1;
     has_previous_ = true;
     previous_pose_ = observation.pose;
     return;
@@ -25,6 +26,7 @@ void ElevationLimitTracker::observe(const RigObservation& observation) {
   const double moved_azimuth = azimuthChange(previous_pose_, observation.pose);
   const double moved_elevation = observation.pose.elevation_rad - previous_pose_.elevation_rad;
   previous_pose_ = observation.pose;
+  last_azimuth_sign_ = asked.d_azimuth_rad < 0.0 ? -1 : 1;
   const double asked_length = std::hypot(asked.d_azimuth_rad, asked.d_elevation_rad);
   if (asked_length == 0.0) return;
   const int asked_direction = asked.d_elevation_rad > 0.0   ? 1
@@ -52,15 +54,14 @@ void ElevationLimitTracker::observe(const RigObservation& observation) {
   }
 }
 
-Action ElevationLimitTracker::alongTheLimit(const Action& direction,
-                                            double fallback_azimuth_sign) const {
+Action ElevationLimitTracker::alongTheLimit(const Action& direction) const {
   if (blocked_direction_ == 0 || direction.d_elevation_rad * blocked_direction_ <= 0.0) {
     return direction;
   }
   const double length = std::hypot(direction.d_azimuth_rad, direction.d_elevation_rad);
   Action along;
   along.d_elevation_rad = 0.0;
-  double sign = fallback_azimuth_sign;
+  double sign = last_azimuth_sign_;
   if (along_sign_ != 0) {
     sign = along_sign_;
   } else if (std::abs(direction.d_azimuth_rad) > 1e-3 * length) {

@@ -67,9 +67,8 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   const Action predicted{cos, sin};
   if (head_ == DirectionHead::kGradient) return predicted;  // the paper's agent, as it was
   // Ours: along a floor that stopped the rig, and aside from a view it has just left.
-  const double side = observation.last_action.d_azimuth_rad < 0.0 ? -1.0 : 1.0;
   return elevation_limit_.alongTheLimit(
-      recent_views_.awayFromRecentViews(elevation_limit_.alongTheLimit(predicted, side)), side);
+      recent_views_.awayFromRecentViews(elevation_limit_.alongTheLimit(predicted)));
 }
 
 std::string defaultModelPath() {

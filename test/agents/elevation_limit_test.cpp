@@ -64,11 +64,15 @@ TEST(ElevationLimitTest, OnlyADirectionIntoTheLimitTurnsAlongIt) {
   tracker.observe(rigAt(0.0, -0.08, {-0.28, 0.0}, 2));
   EXPECT_NEAR(tracker.alongTheLimit({0.28, -0.96}).d_azimuth_rad, -1.0, 1e-12);
   EXPECT_DOUBLE_EQ(tracker.alongTheLimit({0.28, 0.96}).d_azimuth_rad, 0.28);  // up: as it is
-  // Straight down, before any move along the limit: on the side it is given.
+  // Straight down, before any move along the limit: on the side of the last move's azimuth.
+  tracker.observe(rigAt(0.1, -0.08, {}, 0));
+  tracker.observe(rigAt(0.0, -0.08, {-0.5, -0.5}, 1));
+  ASSERT_EQ(tracker.blockedDirection(), -1);
+  EXPECT_NEAR(tracker.alongTheLimit({0.0, -2.0}).d_azimuth_rad, -2.0, 1e-12);
   tracker.observe(rigAt(0.0, -0.08, {}, 0));
   tracker.observe(rigAt(0.1, -0.08, {0.5, -0.5}, 1));
-  EXPECT_NEAR(tracker.alongTheLimit({0.0, -2.0}, -1.0).d_azimuth_rad, -2.0, 1e-12);
-  EXPECT_NEAR(tracker.alongTheLimit({0.0, -2.0}, 1.0).d_azimuth_rad, 2.0, 1e-12);
+  ASSERT_EQ(tracker.blockedDirection(), -1);
+  EXPECT_NEAR(tracker.alongTheLimit({0.0, -2.0}).d_azimuth_rad, 2.0, 1e-12);
 }
 
 TEST(ElevationLimitTest, ARoomsFloorIsNoticedFromTheEnvironmentsSteps) {

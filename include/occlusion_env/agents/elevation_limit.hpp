@@ -23,16 +23,16 @@ class ElevationLimitTracker {
 
   /// `direction` (d_azimuth, d_elevation) turned along the limit where it points the blocked
   /// way: all of its length in azimuth, on the side the rig already goes along it (so that it
-  /// does not swing back and forth), else on the side of its azimuth part (of
-  /// `fallback_azimuth_sign` where it had none). Unchanged when nothing is blocked or it points
-  /// away from the limit.
-  Action alongTheLimit(const Action& direction, double fallback_azimuth_sign = 1.0) const;
+  /// does not swing back and forth), else on the side of its azimuth part (of the last move's
+  /// where it had none). Unchanged when nothing is blocked or it points away from the limit.
+  Action alongTheLimit(const Action& direction) const;
 
  private:
   bool has_previous_ = false;
   SphericalPose previous_pose_;
   int blocked_direction_ = 0;
   int along_sign_ = 0;  // the azimuth's sign of the moves along the limit so far; 0 before one
+  int last_azimuth_sign_ = 1;  // of the last move asked for (+1 after a reset or without one)
 };
 
 }  // namespace occlusion_env
