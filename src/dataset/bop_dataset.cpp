@@ -26,6 +26,22 @@ nlohmann::json readJson(const std::string& path) {
   }
 }
 
+// A frame's intrinsics: scene_camera.json's row-major cam_K, and the image size its label's drawn
+// camera names (randomised sets) or the dataset's square `size`.
+CameraIntrinsics intrinsicsFromJson(const nlohmann::json& camera, const nlohmann::json& label,
+                                    int size) {
+  const nlohmann::json& k = camera.at("cam_K");
+  CameraIntrinsics intrinsics;
+  intrinsics.fx = k.at(0).get<double>();
+  intrinsics.cx = k.at(2).get<double>();
+  intrinsics.fy = k.at(4).get<double>();
+  intrinsics.cy = k.at(5).get<double>();
+  const bool drawn = label.contains("camera") && label.at("camera").contains("width");
+  intrinsics.width = drawn ? label.at("camera").at("width").get<int>() : size;
+  intrinsics.height = drawn ? label.at("camera").at("height").get<int>() : size;
+  return intrinsics;
+}
+
 nlohmann::json directionJson(const std::optional<Direction>& direction) {
   if (!direction) return nullptr;
   return {{"sin", direction->sin}, {"cos", direction->cos}, {"angle_rad", direction->angle_rad}};
@@ -96,6 +112,7 @@ FrameLabels labelsFromJson(const nlohmann::json& json, int image_id) {
 BopDataset::BopDataset(const std::string& dir) : dir_(dir) {
   manifest_ = readJson((fs::path(dir) / kManifestFile).string());
   try {
+    const int size = manifest_.at("options").value("size", 0);
     const nlohmann::json& scenes = manifest_.at("scenes");
     scene_count_ = static_cast<int>(scenes.size());
     for (const nlohmann::json& scene : scenes) {
@@ -104,6 +121,9 @@ BopDataset::BopDataset(const std::string& dir) : dir_(dir) {
       const std::string labels_path = (fs::path(folder) / kLabelsFile).string();
       if (!fs::exists(labels_path)) continue;  // not generated (yet)
       const nlohmann::json labels = readJson(labels_path);
+      const std::string camera_path = (fs::path(folder) / "scene_camera.json").string();
+      const nlohmann::json cameras =
+          fs::exists(camera_path) ? readJson(camera_path) : nlohmann::json::object();
       for (const auto& [key, value] : labels.items()) {
         Frame frame;
         frame.scene_index = index;
@@ -111,6 +131,8 @@ BopDataset::BopDataset(const std::string& dir) : dir_(dir) {
         frame.validation = scene.at("split").get<std::string>() == "val";
         const int image_id = std::stoi(key);
         frame.labels = labelsFromJson(value, image_id);
+        if (cameras.contains(key))
+          frame.intrinsics = intrinsicsFromJson(cameras.at(key), value, size);
         frame.scene_folder = folder;
         frame.rgb_path = folder + "/rgb/" + idName(image_id) + ".png";
         frame.depth_path = folder + "/depth/" + idName(image_id) + ".png";

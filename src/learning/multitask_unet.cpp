@@ -51,8 +51,8 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                    .choices({"far", "filled"}))
           .add("bounding_surfaces", &NetworkConfig::bounding_surfaces,
                OptionSpec("how floors and walls enter: kept = as they are; cleared = as the "
-                          "void, found in the depth (network_input.hpp; needs the camera's "
-                          "intrinsics, so agents and the bridge only, never the trainer)")
+                          "void, found in the depth with the camera's intrinsics "
+                          "(network_input.hpp; the datasets' from scene_camera.json)")
                    .choices({"kept", "cleared"}))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))

@@ -59,8 +59,9 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = first + k;
     const dataset::Frame& frame = *frames[k];
-    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), format, scratch,
-                      input.data_ptr<float>());
+    // With the frame's intrinsics: a model whose input clears floors and walls needs them.
+    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), frame.intrinsics, format,
+                      scratch, input.data_ptr<float>());
     samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
@@ -113,11 +114,13 @@ void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& data
       CameraFrame whole;
       whole.rgb = data.readRgb(*drawn);
       whole.depth = data.readDepthMeters(*drawn);
+      whole.intrinsics = drawn->intrinsics;
       frame = objectAloneFrame(whole, masks[random() % masks.size()]);
       ++alone;
     }
     if (!frame) frame = bareSurfaceFrame(random(), surface_px);
-    writeNetworkInput(frame->rgb, frame->depth, format, scratch, input.data_ptr<float>());
+    writeNetworkInput(frame->rgb, frame->depth, frame->intrinsics, format, scratch,
+                      input.data_ptr<float>());
     samples.inputs[row].copy_(input);
     samples.masks[row].zero_();
   }

@@ -179,8 +179,8 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
   generateDataset(dir + "_all_training", all_training);
   EXPECT_EQ(readJson(fs::path(dir + "_all_training") / "dataset.json").at("validation"),
             "none: every scene is for training");
-  for (const Frame& frame : BopDataset(dir + "_all_training").frames())
-    EXPECT_FALSE(frame.validation);
+  const BopDataset all_training_data(dir + "_all_training");  // outlives the loop over its frames
+  for (const Frame& frame : all_training_data.frames()) EXPECT_FALSE(frame.validation);
   fs::remove_all(dir + "_all_training");
   // Test seeds are refused.
   DatasetOptions test_seeds = tinyOptions();
@@ -234,6 +234,19 @@ TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
     }
   }
   EXPECT_GE(sensors.size(), 2u);  // seeds 0..3 draw realsense_d435, azure_kinect, ideal, ...
+  // The reader gives each frame its drawn camera's intrinsics.
+  const BopDataset randomized(dir.string());
+  for (const Frame& frame : randomized.frames()) {
+    const nlohmann::json drawn = readJson(fs::path(frame.scene_folder) / "scene_labels.json")
+                                     .at(std::to_string(frame.labels.image_id))
+                                     .at("camera");
+    EXPECT_EQ(frame.intrinsics.fx, drawn.at("fx").get<double>());
+    EXPECT_EQ(frame.intrinsics.fy, drawn.at("fy").get<double>());
+    EXPECT_EQ(frame.intrinsics.cx, drawn.at("cx").get<double>());
+    EXPECT_EQ(frame.intrinsics.cy, drawn.at("cy").get<double>());
+    EXPECT_EQ(frame.intrinsics.width, drawn.at("width").get<int>());
+    EXPECT_EQ(frame.intrinsics.height, drawn.at("height").get<int>());
+  }
   const AuditReport audit = auditDataset(dir.string(), 12);
   EXPECT_EQ(audit.frames_checked, 12);
   EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());

@@ -551,6 +551,44 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
   for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
 }
 
+// A model whose input clears floors and walls trains on a dataset's frames: each is cleared with
+// its own intrinsics (scene_camera.json's cam_K), so a room's floor and walls enter as the void.
+TEST(LearningTest, AClearedInputTrainsOnADatasetsFramesWithTheirIntrinsics) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_cleared_rooms");
+  dataset::DatasetOptions rooms = tinyDataset(2, 3, 0.5);
+  rooms.world = "room";
+  rooms.oracle_labels = false;
+  dataset::generateDataset(data_dir.string(), rooms);
+  const dataset::BopDataset bop(data_dir.string());
+  const InputFormat cleared(32, DepthGaps::kFilled, true);
+  const TrainingData data = loadTrainingData(data_dir.string(), cleared);
+  ASSERT_EQ(data.train.size(), 3);
+  InputScratch scratch;
+  const torch::Tensor expected = torch::empty({4, 32, 32});
+  // The void's normalised depth, as in AClearedInputSeesTheWallBehindABoxAsTheVoid.
+  const float far = 2.0f;
+  int64_t row = 0, void_pixels = 0;
+  for (const dataset::Frame& frame : bop.frames()) {
+    ASSERT_GT(frame.intrinsics.fx, 0.0) << "frame " << row << " has its cam_K";
+    if (frame.validation) continue;
+    writeNetworkInput(bop.readRgb(frame), bop.readDepthMeters(frame), frame.intrinsics, cleared,
+                      scratch, expected.data_ptr<float>());
+    const torch::Tensor held = data.train.inputs[row].to(torch::kFloat);
+    EXPECT_LE((held - expected).abs().max().item<float>(), 2e-3f) << "frame " << row;
+    void_pixels += (held[3] == far).sum().item<int64_t>();
+    ++row;
+  }
+  // A room seen from 4 m fills the frame, mostly with floor and wall: a quarter at least cleared.
+  EXPECT_GT(void_pixels, row * 32 * 32 / 4);
+  // Without the scenes' cam_K a cleared input cannot be made, and says why.
+  for (int scene = 0; scene < 2; ++scene)
+    fs::remove(data_dir / "train" / dataset::idName(scene) / "scene_camera.json");
+  EXPECT_THROW(loadTrainingData(data_dir.string(), cleared), InvalidArgumentError);
+  EXPECT_EQ(loadTrainingData(data_dir.string(), InputFormat(32, DepthGaps::kFilled)).train.size(),
+            3);
+  fs::remove_all(data_dir);
+}
+
 // The samples are held as half floats and bytes: each is its frame's network input to half
 // precision and its thresholded occlusion map, in the dataset's frame order.
 TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {

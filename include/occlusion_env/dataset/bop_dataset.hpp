@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "occlusion_env/dataset/labels.hpp"
+#include "occlusion_env/geometry/camera.hpp"
 
 namespace occlusion_env {
 namespace dataset {
@@ -51,6 +52,8 @@ struct Frame {
   std::uint64_t scene_seed = 0;
   bool validation = false;  // the scene is in the validation split
   FrameLabels labels;
+  /// scene_camera.json's cam_K for the frame's images; fx = 0 when the scene has none.
+  CameraIntrinsics intrinsics;
   std::string scene_folder;  // "<dir>/train/<scene:06d>"
   std::string rgb_path, depth_path, occlusion_path;
 };
