@@ -47,7 +47,9 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   elevation_limit_.observe(observation);
   recent_views_.observe(observation);
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
-                    model_->network->config().inputFormat(), scratch_, input_.data_ptr<float>());
+                    model_->network->config().inputFormat().atRadius(
+                        cameraRadius(observation.world_from_optical)),
+                    scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.
   auto& network = model_->network;

@@ -54,6 +54,12 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                           "void, found in the depth with the camera's intrinsics "
                           "(network_input.hpp; the datasets' from scene_camera.json)")
                    .choices({"kept", "cleared"}))
+          .add("depth_reference", &NetworkConfig::depth_reference,
+               OptionSpec("what depth is measured against: metres = as the camera reads it; "
+                          "radius = relative to the camera's distance from the sphere's centre "
+                          "(x 4 m / r), so that a scene scaled with its sphere looks as at 4 m "
+                          "(network_input.hpp)")
+                   .choices({"metres", "radius"}))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -76,7 +82,7 @@ void NetworkConfig::validate() const {
 
 InputFormat NetworkConfig::inputFormat() const {
   return {input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar,
-          bounding_surfaces == "cleared"};
+          bounding_surfaces == "cleared", depth_reference == "radius"};
 }
 
 nlohmann::json NetworkConfig::toJson() const {
@@ -85,13 +91,17 @@ nlohmann::json NetworkConfig::toJson() const {
   // had.
   if (escape_bins == 0) json.erase("escape_bins");
   if (bounding_surfaces == "kept") json.erase("bounding_surfaces");
+  if (depth_reference == "metres") json.erase("depth_reference");
   return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
     // "far", 0 and "kept" when absent: recorded before they existed.
-    if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces") continue;
+    if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces" ||
+        key == "depth_reference") {
+      continue;
+    }
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
   }
   NetworkConfig config;

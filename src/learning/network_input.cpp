@@ -28,14 +28,14 @@ void resizeTo(const cv::Mat& source, const cv::Size& target, cv::Mat& resized) {
 }
 
 // DepthGaps::kFar: missing = far, then averaged.
-void writeDepthFar(const cv::Mat& depth, int size, InputScratch& scratch, float* out) {
+void writeDepthFar(const cv::Mat& depth, int size, float scale, InputScratch& scratch, float* out) {
   scratch.depth_filled.create(depth.size(), CV_32FC1);
   for (int row = 0; row < depth.rows; ++row) {
     const float* in = depth.ptr<float>(row);
     float* filled = scratch.depth_filled.ptr<float>(row);
     for (int col = 0; col < depth.cols; ++col) {
       const float d = in[col];
-      filled[col] = std::isfinite(d) ? std::min(std::max(d, 0.0f), kFar) : kFar;
+      filled[col] = std::isfinite(d) ? std::min(std::max(d * scale, 0.0f), kFar) : kFar;
     }
   }
   resizeTo(scratch.depth_filled, cv::Size(size, size), scratch.depth_small);
@@ -61,8 +61,10 @@ float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row
   return count >= kMinValidNeighbours ? sum / count : kFar;
 }
 
-// DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours.
-void writeDepthFilled(const cv::Mat& depth, int size, InputScratch& scratch, float* out) {
+// DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours. Depth
+// times `scale`, but the void's far stays far.
+void writeDepthFilled(const cv::Mat& depth, int size, float scale, InputScratch& scratch,
+                      float* out) {
   sumValidDepth(depth, size, scratch);
   for (int row = 0; row < size; ++row) {
     const float* sums = scratch.depth_small.ptr<float>(row);
@@ -71,7 +73,8 @@ void writeDepthFilled(const cv::Mat& depth, int size, InputScratch& scratch, flo
       const float metres = fractions[col] > 0.0f
                                ? sums[col] / fractions[col]
                                : filledGap(scratch.depth_small, scratch.valid_small, row, col);
-      out[row * size + col] = normalisedDepth(metres);
+      out[row * size + col] =
+          normalisedDepth(metres < kFar ? std::min(metres * scale, kFar) : kFar);
     }
   }
 }
@@ -116,10 +119,11 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
       for (int c = 0; c < 3; ++c) out[c * plane + i] = (pixels[col][c] / 255.0f - 0.5f) / 0.25f;
     }
   }
+  const float scale = static_cast<float>(format.depthScale());
   if (format.depth_gaps == DepthGaps::kFilled) {
-    writeDepthFilled(depth, size, scratch, out + 3 * plane);
+    writeDepthFilled(depth, size, scale, scratch, out + 3 * plane);
   } else {
-    writeDepthFar(depth, size, scratch, out + 3 * plane);
+    writeDepthFar(depth, size, scale, scratch, out + 3 * plane);
   }
 }
 
@@ -139,6 +143,22 @@ CameraIntrinsics gridIntrinsics(const CameraIntrinsics& intrinsics, const cv::Si
 }
 
 }  // namespace
+
+double InputFormat::depthScale() const {
+  if (!depth_per_radius) return 1.0;
+  if (!(std::isfinite(radius_m) && radius_m > 0.0)) {
+    throw InvalidArgumentError(
+        "network input: this model reads depth relative to the camera's distance from the "
+        "sphere's centre (depth_reference: radius), and none was given");
+  }
+  return kWorkingRadiusM / radius_m;
+}
+
+InputFormat InputFormat::atRadius(double camera_radius_m) const {
+  InputFormat format = *this;
+  format.radius_m = camera_radius_m;
+  return format;
+}
 
 BoundingSurfaceOptions clearedInputSurfaceOptions() {
   BoundingSurfaceOptions options;

@@ -20,12 +20,20 @@ OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
   }
   logit_threshold_ =
       static_cast<float>(std::log(probability_threshold / (1.0 - probability_threshold)));
+  format_ = model_->network->config().inputFormat().atRadius(kWorkingRadiusM);
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
   small_mask_.create(size, size, CV_8UC1);
   // A model that clears floors and walls from its input has found them there (with the input's
   // options, clearedInputSurfaceOptions()); the estimate's clearing reuses what it found.
   if (surfaces) surfaces_.emplace(*surfaces);
+}
+
+void OcclusionEstimator::setCameraRadius(double radius_m) {
+  if (!(std::isfinite(radius_m) && radius_m > 0.0)) {
+    throw InvalidArgumentError("occlusion estimator: the camera's radius must be positive");
+  }
+  format_.radius_m = radius_m;
 }
 
 std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
@@ -59,8 +67,7 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
                                                const CameraIntrinsics& intrinsics, cv::Mat& mask) {
   const int size = model_->network->config().input_size;
-  writeNetworkInput(rgb, depth, intrinsics, model_->network->config().inputFormat(), scratch_,
-                    input_.data_ptr<float>());
+  writeNetworkInput(rgb, depth, intrinsics, format_, scratch_, input_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor logits = model_->network->forward(input_).occlusion_logits.contiguous();
   const float* logit = logits.data_ptr<float>();
@@ -86,8 +93,10 @@ std::unique_ptr<NetworkOcclusionEstimator> makeBridgeEstimator(
     std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options) {
   std::optional<BoundingSurfaceOptions> surfaces;
   if (options.clear_bounding_surfaces) surfaces.emplace();
-  return std::make_unique<NetworkOcclusionEstimator>(std::move(model),
-                                                     options.occlusion_probability, surfaces);
+  auto estimator = std::make_unique<NetworkOcclusionEstimator>(
+      std::move(model), options.occlusion_probability, surfaces);
+  estimator->setCameraRadius(options.radius_m);
+  return estimator;
 }
 
 }  // namespace learning

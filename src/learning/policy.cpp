@@ -280,8 +280,9 @@ void PolicyAgent::reset(std::uint64_t seed) {
 Action PolicyAgent::act(const RigObservation& observation) {
   auto& network = policy_->network;
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
-                    network->backbone()->config().inputFormat(), scratch_,
-                    input_.data_ptr<float>());
+                    network->backbone()->config().inputFormat().atRadius(
+                        cameraRadius(observation.world_from_optical)),
+                    scratch_, input_.data_ptr<float>());
   writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor features = encoder_->encode(input_);

@@ -618,7 +618,8 @@ class PpoTrainer {
   void observe(int i, const StepResult& result) {
     const std::size_t plane = 4 * static_cast<std::size_t>(input_format_.size) * input_format_.size;
     writeNetworkInput(result.observation->rgb, result.observation->depth, result.info.intrinsics,
-                      input_format_, scratch_[i], inputs_.data_ptr<float>() + i * plane);
+                      input_format_.atRadius(cameraRadius(result.info.world_from_optical)),
+                      scratch_[i], inputs_.data_ptr<float>() + i * plane);
     writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
                   rig_.data_ptr<float>() + i * kRigInputs);
     if (encode_on_environment_threads_) {

@@ -48,6 +48,12 @@ Samples emptySamples(int64_t n, int size) {
   return samples;
 }
 
+// The radius of the sphere a frame was seen from [m]: its labels' drawn camera, or the
+// working radius for frames recorded before labels named one (all at 4 m).
+double frameRadius(const dataset::Frame& frame) {
+  return frame.labels.setup ? frame.labels.setup->radius_m : kWorkingRadiusM;
+}
+
 // Writes `frames` of `data` into `samples` from row `first` on.
 void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
                  const InputFormat& format, Samples& samples, int64_t first) {
@@ -60,8 +66,8 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     const int64_t i = first + k;
     const dataset::Frame& frame = *frames[k];
     // With the frame's intrinsics: a model whose input clears floors and walls needs them.
-    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), frame.intrinsics, format,
-                      scratch, input.data_ptr<float>());
+    writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), frame.intrinsics,
+                      format.atRadius(frameRadius(frame)), scratch, input.data_ptr<float>());
     samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
@@ -106,6 +112,7 @@ void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& data
   for (int64_t k = 0; k < count; ++k) {
     const int64_t row = first + k;
     std::optional<CameraFrame> frame;
+    double radius_m = kWorkingRadiusM;  // bare surfaces: drawn as a room's seen from the sphere
     for (int attempt = 0; k % 2 == 1 && !frames.empty() && !frame && attempt < 100; ++attempt) {
       const auto& [d, drawn] = frames[pick(random)];
       const dataset::BopDataset& data = *datasets[d];
@@ -115,12 +122,13 @@ void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& data
       whole.rgb = data.readRgb(*drawn);
       whole.depth = data.readDepthMeters(*drawn);
       whole.intrinsics = drawn->intrinsics;
+      radius_m = frameRadius(*drawn);
       frame = objectAloneFrame(whole, masks[random() % masks.size()]);
       ++alone;
     }
     if (!frame) frame = bareSurfaceFrame(random(), surface_px);
-    writeNetworkInput(frame->rgb, frame->depth, frame->intrinsics, format, scratch,
-                      input.data_ptr<float>());
+    writeNetworkInput(frame->rgb, frame->depth, frame->intrinsics, format.atRadius(radius_m),
+                      scratch, input.data_ptr<float>());
     samples.inputs[row].copy_(input);
     samples.masks[row].zero_();
   }
@@ -505,6 +513,7 @@ nlohmann::json initialModelManifest(const TrainingOptions& options) {
     nlohmann::json json = network.toJson();
     json.erase("depth_gaps");
     json.erase("bounding_surfaces");
+    json.erase("depth_reference");
     json.erase("input_size");
     json.erase("escape_bins");
     return json;

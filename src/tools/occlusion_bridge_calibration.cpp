@@ -169,6 +169,7 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       View view;
       view.true_pixels = info.occlusion.total_pixels;
       for (learning::OcclusionEstimator& estimator : estimators) {
+        estimator.setCameraRadius(learning::cameraRadius(info.world_from_optical));
         view.estimated_pixels.push_back(
             estimator.estimate(observation.rgb, observation.depth, info.intrinsics, mask)
                 .occluded_pixels);

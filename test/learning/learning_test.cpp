@@ -670,6 +670,45 @@ TEST(LearningTest, FilledDepthGapsLookLikeTheSurfaceAroundThem) {
   for (int i = 0; i < 3 * 32 * 32; ++i) ASSERT_EQ(filled[i], far[i]) << "colour as before";
 }
 
+// depth_reference: radius: a scene scaled with its sphere (everything, the camera's radius too,
+// times s) enters as the unscaled scene read in metres; the void stays far; the format needs the
+// radius, and a manifest records the field only when it is not metres.
+TEST(LearningTest, DepthRelativeToTheRadiusMakesAScaledSceneTheSameInput) {
+  const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 120, 150));
+  cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(std::nanf("")));  // the void...
+  depth(cv::Rect(8, 8, 40, 40)).setTo(3.5f);                   // ...a box at 3.5 m...
+  depth(cv::Rect(20, 30, 30, 20)).setTo(4.25f);                // ...and one behind it
+  depth.at<float>(10, 10) = std::nanf("");                     // a dropout
+  const double scale = 0.3;                                    // the sphere of 1.2 m
+  const cv::Mat scaled_depth = depth * scale;
+  for (const DepthGaps gaps : {DepthGaps::kFar, DepthGaps::kFilled}) {
+    InputScratch scratch;
+    std::vector<float> metres(4 * 32 * 32), relative(4 * 32 * 32);
+    writeNetworkInput(rgb, depth, InputFormat(32, gaps), scratch, metres.data());
+    const InputFormat per_radius(32, gaps, false, true);
+    writeNetworkInput(rgb, scaled_depth, per_radius.atRadius(kWorkingRadiusM * scale), scratch,
+                      relative.data());
+    for (std::size_t i = 0; i < metres.size(); ++i) {
+      ASSERT_NEAR(relative[i], metres[i], 1e-5f) << "element " << i;
+    }
+    EXPECT_FLOAT_EQ(relative[3 * 32 * 32], 2.0f) << "the void stays far";
+    // At the working radius the input is the metres' one.
+    writeNetworkInput(rgb, depth, per_radius.atRadius(kWorkingRadiusM), scratch, relative.data());
+    EXPECT_EQ(relative, metres);
+    EXPECT_THROW(writeNetworkInput(rgb, depth, per_radius, scratch, relative.data()),
+                 InvalidArgumentError)
+        << "no radius given";
+  }
+  NetworkConfig config;
+  EXPECT_FALSE(config.toJson().contains("depth_reference"));
+  EXPECT_FALSE(config.inputFormat().depth_per_radius);
+  config.depth_reference = "radius";
+  EXPECT_EQ(config.toJson().at("depth_reference"), "radius");
+  EXPECT_TRUE(NetworkConfig::fromJson(config.toJson()).inputFormat().depth_per_radius);
+  config.depth_reference = "feet";
+  EXPECT_THROW(config.validate(), InvalidArgumentError);
+}
+
 // bounding_surfaces: cleared: a wall behind a box enters as the void (black, far), the box as
 // it is; a model that clears needs the camera's intrinsics, and its manifest says so.
 TEST(LearningTest, AClearedInputSeesTheWallBehindABoxAsTheVoid) {
@@ -842,6 +881,62 @@ std::shared_ptr<LoadedModel> constantDirectionModel(float sin, float cos) {
     }
   }
   return model;
+}
+
+// A network reading depth relative to the camera's radius, in the estimator and the agent: a
+// scene scaled with its sphere gives the estimate and the move of the unscaled one; the agent
+// takes the radius from the rig's pose and refuses a view without one. The shipped void network,
+// its manifest saying depth_reference: radius (as scripts/derive_model.py would write it).
+TEST(LearningTest, ARadiusRelativeNetworkSeesAScaledSceneAsTheUnscaledOne) {
+  const fs::path dir = temporaryDir("occlusion_env_learning_radius_model");
+  fs::create_directories(dir);
+  const fs::path source = defaultModelPath();
+  fs::copy_file(source, dir / "radius.pt");
+  nlohmann::json manifest = readManifest(source.string());
+  manifest["network"]["depth_reference"] = "radius";
+  std::ofstream(dir / "radius.json") << manifest.dump();
+  const auto model = std::make_shared<LoadedModel>(loadModel((dir / "radius.pt").string()));
+  ASSERT_TRUE(model->network->config().inputFormat().depth_per_radius);
+  // An occluded start view at 4 m, and the same scene scaled to a sphere of 1.2 m.
+  EnvironmentOptions options;
+  options.width = options.height = 128;
+  Environment environment(options);
+  const StepResult start = environment.reset(2);
+  const cv::Mat rgb = start.observation->rgb.clone(), depth = start.observation->depth.clone();
+  const CameraIntrinsics intrinsics = start.info.intrinsics;
+  const double radius_m = 1.2;
+  const cv::Mat scaled_depth = depth * (radius_m / kWorkingRadiusM);
+
+  OcclusionEstimator at_four_metres(model, 0.5), scaled(model, 0.5);
+  scaled.setCameraRadius(radius_m);
+  cv::Mat mask, scaled_mask;
+  const OcclusionEstimate expected = at_four_metres.estimate(rgb, depth, intrinsics, mask);
+  const OcclusionEstimate got = scaled.estimate(rgb, scaled_depth, intrinsics, scaled_mask);
+  EXPECT_NEAR(got.mean_probability, expected.mean_probability, 1e-5);
+  EXPECT_EQ(cv::countNonZero(mask != scaled_mask), 0);
+  // The scaled depth read as if from 4 m is another input, with another answer.
+  const OcclusionEstimate misread = at_four_metres.estimate(rgb, scaled_depth, intrinsics, mask);
+  EXPECT_GT(std::abs(misread.mean_probability - expected.mean_probability), 1e-3);
+  EXPECT_THROW(scaled.setCameraRadius(0.0), InvalidArgumentError);
+
+  NetworkDirectionAgent agent(model, DirectionHead::kEscape);
+  const auto act = [&](const cv::Mat& view_depth, double camera_radius_m) {
+    agent.reset(1);
+    RigObservation observation{rgb, view_depth};
+    observation.intrinsics = intrinsics;
+    observation.world_from_optical.translation() = Eigen::Vector3d(0.0, -camera_radius_m, 0.0);
+    return agent.act(observation);
+  };
+  const Action far_move = act(depth, kWorkingRadiusM), near_move = act(scaled_depth, radius_m);
+  EXPECT_NEAR(near_move.d_azimuth_rad, far_move.d_azimuth_rad, 1e-5);
+  EXPECT_NEAR(near_move.d_elevation_rad, far_move.d_elevation_rad, 1e-5);
+  const Action misread_move = act(scaled_depth, kWorkingRadiusM);
+  EXPECT_GT(std::abs(misread_move.d_azimuth_rad - far_move.d_azimuth_rad) +
+                std::abs(misread_move.d_elevation_rad - far_move.d_elevation_rad),
+            1e-3);
+  agent.reset(1);
+  EXPECT_THROW(agent.act(RigObservation{rgb, depth}), InvalidArgumentError) << "no camera frame";
+  fs::remove_all(dir);
 }
 
 TEST(LearningTest, TheEscapeAgentTurnsAlongAFloorThatStopsItAndThePapersAgentDoesNot) {

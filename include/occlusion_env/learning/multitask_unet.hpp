@@ -38,6 +38,8 @@ struct NetworkConfig {
   std::string depth_gaps = "far";  // far | filled: how missing depth enters (network_input.hpp)
   // kept | cleared: whether floors and walls enter as they are or as the void (network_input.hpp)
   std::string bounding_surfaces = "kept";
+  // metres | radius: depth as read, or relative to the camera's radius (network_input.hpp)
+  std::string depth_reference = "metres";
   int escape_bins = 0;  // directions scored by the escape-bins head; 0 = no such head
 
   bool residual() const { return variant != "unet"; }
@@ -52,8 +54,8 @@ struct NetworkConfig {
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
   /// Refuses unknown names and a missing field (every manifest states the whole network), but
-  /// depth_gaps, escape_bins and bounding_surfaces, which models recorded before they existed
-  /// lack: "far", 0 and "kept".
+  /// depth_gaps, escape_bins, bounding_surfaces and depth_reference, which models recorded
+  /// before they existed lack: "far", 0, "kept" and "metres".
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 

@@ -20,6 +20,11 @@
 //            a network trained on objects in the void sees a room as the void around its
 //            objects; so do the network pixels with no depth reading at all (a wall beyond the
 //            sensor's range), as the void's background has none. Needs the camera's intrinsics.
+// Depth (a model's depth_reference):
+//   metres: as the camera reads it;
+//   radius: times kWorkingRadiusM / r, r the camera's distance from the sphere's centre, so that
+//           a scene scaled with its sphere (small objects seen from 1 m) enters as the same
+//           scene at 4 m would; the void's far stays far. Needs r (InputFormat::atRadius).
 #pragma once
 
 #include <memory>
@@ -31,7 +36,8 @@
 namespace occlusion_env {
 namespace learning {
 
-constexpr double kFarDepthM = 8.0;  // beyond the sphere (r = 4 m) and every object
+constexpr double kFarDepthM = 8.0;       // beyond the sphere (r = 4 m) and every object
+constexpr double kWorkingRadiusM = 4.0;  // the sphere's radius the networks were trained at
 
 enum class DepthGaps { kFar, kFilled };
 
@@ -40,12 +46,29 @@ enum class DepthGaps { kFar, kFilled };
 struct InputFormat {
   // From a size alone (implicitly): the input of the models before DepthGaps existed.
   InputFormat(int size_px = 64, DepthGaps gaps = DepthGaps::kFar,  // NOLINT(runtime/explicit)
-              bool clear_surfaces = false)
-      : size(size_px), depth_gaps(gaps), clear_bounding_surfaces(clear_surfaces) {}
+              bool clear_surfaces = false, bool per_radius = false)
+      : size(size_px),
+        depth_gaps(gaps),
+        clear_bounding_surfaces(clear_surfaces),
+        depth_per_radius(per_radius) {}
   int size;  // [px], width and height
   DepthGaps depth_gaps;
   bool clear_bounding_surfaces;  // the view's floors and walls enter as the void
+  bool depth_per_radius;         // depth enters relative to the camera's radius (radius_m)
+  double radius_m = 0.0;         // [m] the camera's distance from the sphere's centre; 0: unknown
+
+  /// This format for a view from `camera_radius_m` [m] (used only when depth_per_radius).
+  InputFormat atRadius(double camera_radius_m) const;
+  /// What depth [m] is multiplied by before it is normalised: 1, or kWorkingRadiusM / radius_m
+  /// when depth_per_radius. Throws InvalidArgumentError when that needs a radius and has none.
+  double depthScale() const;
 };
+
+/// The camera's distance from the sphere's centre [m]: the optical frame's origin in the sphere
+/// (world) frame; 0 for the identity a caller without a pose gives.
+inline double cameraRadius(const Eigen::Isometry3d& sphere_from_optical) {
+  return sphere_from_optical.translation().norm();
+}
 
 /// The resized images between calls (no allocation once sized).
 struct InputScratch {

@@ -44,6 +44,10 @@ class OcclusionEstimator {
                              const CameraIntrinsics& intrinsics, cv::Mat& mask);
 
   const LoadedModel& model() const { return *model_; }
+  /// The camera's distance from the sphere's centre [m] (4 until set), for a model whose depth
+  /// is relative to it (depth_reference: radius; network_input.hpp). Throws InvalidArgumentError
+  /// unless positive.
+  void setCameraRadius(double radius_m);
 
  private:
   /// Clears the network pixels of small_mask_ that lie on a bounding surface of `depth`; returns
@@ -53,6 +57,7 @@ class OcclusionEstimator {
 
   std::shared_ptr<LoadedModel> model_;
   float logit_threshold_;  // log(p / (1 - p)) of the probability threshold
+  InputFormat format_;     // the model's, at the camera's radius
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
@@ -71,13 +76,15 @@ class NetworkOcclusionEstimator : public ViewOcclusionEstimator {
                         const CameraIntrinsics& intrinsics, cv::Mat& mask) override {
     return estimator_.estimate(rgb, depth, intrinsics, mask).occluded_pixels;
   }
+  void setCameraRadius(double radius_m) { estimator_.setCameraRadius(radius_m); }
 
  private:
   OcclusionEstimator estimator_;
 };
 
-/// The camera bridge's estimator under `options` (its occlusion_probability and
-/// clear_bounding_surfaces): one place for the node, the in-process bridge and the tools.
+/// The camera bridge's estimator under `options` (its occlusion_probability,
+/// clear_bounding_surfaces and radius_m): one place for the node, the in-process bridge and the
+/// tools.
 std::unique_ptr<NetworkOcclusionEstimator> makeBridgeEstimator(
     std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options);
 
