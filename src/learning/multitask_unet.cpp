@@ -97,7 +97,7 @@ nlohmann::json NetworkConfig::toJson() const {
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    // "far", 0 and "kept" when absent: recorded before they existed.
+    // "far", 0, "kept" and "metres" when absent: recorded before they existed.
     if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces" ||
         key == "depth_reference") {
       continue;
