@@ -32,8 +32,8 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
     : model_(std::move(model)), head_(head) {
   if (!model_ || !model_->network) throw InvalidArgumentError("network agent: no model");
   encoder_ = std::make_unique<InferenceEncoder>(*model_->network);
-  const int size = model_->network->config().input_size;
-  input_ = torch::empty({1, 4, size, size});
+  input_format_ = model_->network->config().inputFormat();
+  input_ = torch::empty({1, 4, input_format_.size, input_format_.size});
   const int bins = model_->network->config().escape_bins;
   if (bins > 0) bin_angles_ = escapeBinAngles(bins).view({1, bins});
 }
@@ -47,9 +47,8 @@ Action NetworkDirectionAgent::act(const RigObservation& observation) {
   elevation_limit_.observe(observation);
   recent_views_.observe(observation);
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
-                    model_->network->config().inputFormat().atRadius(
-                        cameraRadius(observation.world_from_optical)),
-                    scratch_, input_.data_ptr<float>());
+                    input_format_.atRadius(cameraRadius(observation.world_from_optical)), scratch_,
+                    input_.data_ptr<float>());
   torch::InferenceMode inference;
   // The encoder and one head: the decoder's occlusion map is not needed to move.
   auto& network = model_->network;

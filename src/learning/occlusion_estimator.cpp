@@ -40,11 +40,10 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
                                                        const CameraIntrinsics& intrinsics,
                                                        const cv::Size& image_size) {
   const int size = small_mask_.rows;
-  const InputFormat format = model_->network->config().inputFormat();
   // An input that clears them has found this view's surfaces already, with its own options.
-  if (!format.clear_bounding_surfaces) {
+  if (!format_.clear_bounding_surfaces) {
     // The filled input has summed the valid depths already.
-    if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
+    if (format_.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
     findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);
   }
   std::int64_t cleared = 0;

@@ -267,8 +267,8 @@ PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
     }
   }
   encoder_ = std::make_unique<InferenceEncoder>(*policy_->network->backbone());
-  const int size = policy_->network->backbone()->config().input_size;
-  input_ = torch::empty({1, 4, size, size});
+  input_format_ = policy_->network->backbone()->config().inputFormat();
+  input_ = torch::empty({1, 4, input_format_.size, input_format_.size});
   rig_ = torch::zeros({1, kRigInputs});
 }
 
@@ -280,9 +280,8 @@ void PolicyAgent::reset(std::uint64_t seed) {
 Action PolicyAgent::act(const RigObservation& observation) {
   auto& network = policy_->network;
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
-                    network->backbone()->config().inputFormat().atRadius(
-                        cameraRadius(observation.world_from_optical)),
-                    scratch_, input_.data_ptr<float>());
+                    input_format_.atRadius(cameraRadius(observation.world_from_optical)), scratch_,
+                    input_.data_ptr<float>());
   writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor features = encoder_->encode(input_);

@@ -38,6 +38,7 @@ class NetworkDirectionAgent : public Agent {
   std::shared_ptr<LoadedModel> model_;
   std::unique_ptr<InferenceEncoder> encoder_;  // the model's encoder, prepared for inference
   DirectionHead head_;
+  InputFormat input_format_;  // the model's (its radius set per view)
   InputScratch scratch_;
   torch::Tensor input_;
   torch::Tensor bin_angles_;  // [1, escape_bins] [rad], with an escape-bins head

@@ -154,6 +154,7 @@ class PolicyAgent : public Agent {
   bool sampled_;
   double sigma_[2] = {0.0, 0.0};  // the Gaussian's per axis, when sampled
   std::mt19937_64 random_;
+  InputFormat input_format_;  // the backbone's (its radius set per view)
   InputScratch scratch_;
   torch::Tensor input_, rig_;
   Action last_move_;
