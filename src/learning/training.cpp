@@ -56,7 +56,10 @@ double frameRadius(const dataset::Frame& frame) {
 
 // Writes `frames` of `data` into `samples` from row `first` on.
 void fillSamples(const dataset::BopDataset& data, const std::vector<const dataset::Frame*>& frames,
-                 const InputFormat& format, Samples& samples, int64_t first) {
+                 const InputFormat& format, Samples& samples, int64_t first,
+                 double mask_coverage = kPaperMaskCoverage) {
+  // The area-averaged mask (0-255) must exceed this: 127 at the paper's 0.5.
+  const double mask_threshold = std::max(0.0, std::floor(255.0 * mask_coverage - 0.5));
   const int size = format.size;
   const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
@@ -71,9 +74,10 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     samples.inputs[i].copy_(input);
     const cv::Mat mask = data.readOcclusionMask(frame);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
-    // Occluded (1) where at least half of the pixel's area is, written into the sample's bytes.
+    // Occluded (1) where at least mask_coverage of the pixel's area is, written into the
+    // sample's bytes.
     cv::Mat mask_out(size, size, CV_8UC1, samples.masks[i].data_ptr<std::uint8_t>());
-    cv::threshold(mask_small, mask_out, 127, 1, cv::THRESH_BINARY);
+    cv::threshold(mask_small, mask_out, mask_threshold, 1, cv::THRESH_BINARY);
     const dataset::FrameLabels& labels = frame.labels;
     if (labels.descent) {
       samples.gradient[i][0] = labels.descent->sin;
@@ -250,9 +254,13 @@ TrainingData loadTrainingData(const std::string& dir, const InputFormat& format,
 }
 
 TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
-                              int max_scenes, double negatives, std::uint64_t seed) {
+                              int max_scenes, double negatives, std::uint64_t seed,
+                              double mask_coverage) {
   if (!(negatives >= 0.0 && negatives <= 1.0)) {
     throw InvalidArgumentError("negatives must be a fraction in [0, 1]");
+  }
+  if (!(mask_coverage > 0.0 && mask_coverage <= 1.0)) {
+    throw InvalidArgumentError("mask_coverage must be a fraction in (0, 1]");
   }
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   std::vector<std::unique_ptr<dataset::BopDataset>> datasets;
@@ -301,8 +309,8 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
   out.validation = emptySamples(validation_count, format.size);
   int64_t train_row = 0, validation_row = 0;
   for (std::size_t d = 0; d < dirs.size(); ++d) {
-    fillSamples(*datasets[d], train[d], format, out.train, train_row);
-    fillSamples(*datasets[d], validation[d], format, out.validation, validation_row);
+    fillSamples(*datasets[d], train[d], format, out.train, train_row, mask_coverage);
+    fillSamples(*datasets[d], validation[d], format, out.validation, validation_row, mask_coverage);
     train_row += static_cast<int64_t>(train[d].size());
     validation_row += static_cast<int64_t>(validation[d].size());
   }
@@ -408,6 +416,11 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                           "nothing to occlude (empty mask, no direction labels): half bare "
                           "floors and walls, half an object nothing hides, alone (0: none)")
                    .range(0, 1))
+          .add("mask_coverage", &O::mask_coverage,
+               OptionSpec("a network pixel is labelled occluded where at least this fraction of "
+                          "its area is occluded (0.5: the paper's masks; 0.01: any occluded "
+                          "pixel, for the camera bridge's estimate)")
+                   .range(0.001, 1))
           .add("init_from", &O::init_from,
                OptionSpec("start from this model's weights (a best.pt of an earlier run of the "
                           "same network) instead of random ones: a new cosine schedule and a "
@@ -433,6 +446,7 @@ nlohmann::json TrainingOptions::toJson() const {
   if (init_from.empty()) json.erase("init_from");
   if (shift == 0.0) json.erase("shift");
   if (negatives == 0.0) json.erase("negatives");
+  if (mask_coverage == kPaperMaskCoverage) json.erase("mask_coverage");
   if (network.escape_bins == 0) json.erase("escape_bin_concentration");  // nothing it weighs
   json["network"] = network.toJson();
   return json;

@@ -185,8 +185,9 @@ int train(const Arguments& args) {
             << (data_dirs.size() > 1 ? " and " + std::to_string(data_dirs.size() - 1) + " more"
                                      : std::string())
             << " at " << options.network.input_size << " px...\n";
-  const learning::TrainingData data = learning::loadTrainingData(
-      data_dirs, options.network.inputFormat(), args.max_scenes, options.negatives, options.seed);
+  const learning::TrainingData data =
+      learning::loadTrainingData(data_dirs, options.network.inputFormat(), args.max_scenes,
+                                 options.negatives, options.seed, options.mask_coverage);
   std::cerr << "occlusion_train: " << data.train.size() << " training and "
             << data.validation.size() << " validation frames; " << options.network.variant << ", "
             << options.epochs << " epochs, checkpoints in " << args.run_dir << "\n";

@@ -260,6 +260,57 @@ TEST(LearningTest, NegativeFramesHoldNothingToOcclude) {
   EXPECT_THROW(objectAloneFrame(scene, cv::Mat::zeros(4, 4, CV_8UC1)), InvalidArgumentError);
 }
 
+// The label of a network pixel: occluded where at least mask_coverage of its area is; a small
+// coverage labels every network pixel that holds an occluded image pixel (64 px masks into 32 px
+// labels: 2 x 2 image pixels each).
+TEST(LearningTest, MaskCoverageLabelsEveryNetworkPixelWithEnoughOcclusion) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_coverage");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData paper = loadTrainingData(data_dir.string(), 32);
+  const TrainingData any = loadTrainingData({data_dir.string()}, 32, 0, 0.0, 1, 0.01);
+  const TrainingData all = loadTrainingData({data_dir.string()}, 32, 0, 0.0, 1, 1.0);
+  ASSERT_EQ(any.train.size(), paper.train.size());
+  // The frames' masks counted by hand: per 2 x 2 block, how many image pixels are occluded.
+  const dataset::BopDataset data(data_dir.string());
+  int64_t row = 0, with_any = 0, with_half = 0, with_all = 0;
+  for (const dataset::Frame& frame : data.frames()) {
+    if (frame.validation) continue;
+    const cv::Mat mask = data.readOcclusionMask(frame);
+    ASSERT_EQ(mask.rows, 64);
+    const auto labels = [&](const TrainingData& d) {
+      return d.train.masks[row].reshape({32, 32}).to(torch::kInt);
+    };
+    const torch::Tensor any_labels = labels(any), paper_labels = labels(paper),
+                        all_labels = labels(all);
+    const auto label_any = any_labels.accessor<int, 2>();
+    const auto label_paper = paper_labels.accessor<int, 2>();
+    const auto label_all = all_labels.accessor<int, 2>();
+    for (int r = 0; r < 32; ++r) {
+      for (int c = 0; c < 32; ++c) {
+        const int occluded = cv::countNonZero(mask(cv::Rect(2 * c, 2 * r, 2, 2)));
+        EXPECT_EQ(label_any[r][c], occluded >= 1 ? 1 : 0)
+            << "frame " << row << " at " << r << ", " << c;
+        EXPECT_EQ(label_paper[r][c], occluded >= 2 ? 1 : 0) << "frame " << row;
+        EXPECT_EQ(label_all[r][c], occluded == 4 ? 1 : 0) << "frame " << row;
+        with_any += occluded >= 1;
+        with_half += occluded >= 2;
+        with_all += occluded == 4;
+      }
+    }
+    ++row;
+  }
+  ASSERT_EQ(row, paper.train.size());
+  EXPECT_GT(with_any, with_half) << "no occlusion edge in the data: the test checks nothing";
+  EXPECT_GT(with_half, with_all);
+  EXPECT_THROW(loadTrainingData({data_dir.string()}, 32, 0, 0.0, 1, 0.0), InvalidArgumentError);
+  TrainingOptions options;
+  EXPECT_FALSE(options.toJson().contains("mask_coverage"))
+      << "the paper's runs keep their identity";
+  options.mask_coverage = 0.01;
+  EXPECT_DOUBLE_EQ(options.toJson().at("mask_coverage").get<double>(), 0.01);
+  fs::remove_all(data_dir);
+}
+
 // Negatives are appended to the training frames only, with empty masks and no direction labels,
 // the same for the same seed; objects alone come from frames of the data.
 TEST(LearningTest, NegativesAreAddedTrainingFramesWithEmptyMasks) {

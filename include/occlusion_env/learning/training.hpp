@@ -38,6 +38,10 @@ struct TrainingData {
   std::vector<std::string> extra_dataset_dirs;  // further datasets, if any
 };
 
+/// The fraction of a network pixel's area that must be occluded for its label to be (the
+/// paper's masks, the validation IoU of every table).
+constexpr double kPaperMaskCoverage = 0.5;
+
 /// Reads every complete scene of the dataset in `dir` as the network sees it (`format`), split by
 /// the manifest's scene-wise train/val split; `max_scenes` > 0 keeps only the first ones. Refuses
 /// datasets with test seeds or models outside the train split (InvalidArgumentError).
@@ -51,9 +55,12 @@ TrainingData loadTrainingData(const std::string& dir, const InputFormat& format,
 /// the training frames' count as frames with nothing to occlude (learning/negative_frames.hpp):
 /// every other one a bare surface, the others one object alone from a training frame drawn at
 /// random; their mask is empty and they have no direction labels. `seed` draws them. The
-/// validation frames are the datasets' alone.
+/// validation frames are the datasets' alone. A network pixel's label is occluded where at least
+/// `mask_coverage` of its area is occluded in the frame's mask (TrainingOptions::mask_coverage),
+/// in the training and the validation frames alike.
 TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputFormat& format,
-                              int max_scenes = 0, double negatives = 0.0, std::uint64_t seed = 1);
+                              int max_scenes = 0, double negatives = 0.0, std::uint64_t seed = 1,
+                              double mask_coverage = kPaperMaskCoverage);
 
 /// Every frame (of training and validation scenes alike) of datasets that a model was not trained
 /// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
@@ -84,6 +91,11 @@ struct TrainingOptions {
   // Frames with nothing to occlude added to the training frames, as a fraction of their count
   // (loadTrainingData's `negatives`; read by the tool that loads the data). 0: none.
   double negatives = 0.0;
+  // A network pixel is labelled occluded where at least this fraction of its area is occluded in
+  // the frame's mask (loadTrainingData's `mask_coverage`): 0.5 the paper's; a small one labels
+  // every pixel that holds any occlusion, for an estimate that must not miss a sliver (the camera
+  // bridge's, which stops on views with no occluded pixel at all).
+  double mask_coverage = kPaperMaskCoverage;
   std::uint64_t seed = 1;
   int threads = 0;  // libtorch threads; 0 = the machine's cores
   // A model file (saveModel) of the same network to start from instead of random weights: the
