@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Studies stopping rules that occlusion_bridge_calibration does not print, on the views it
+writes with --views-csv (seed, step, the true occlusion and the estimate at each probability, in
+px). A level (p, t, k) stops an episode at the first step view that is the k-th in a row (the
+start view never counts) whose estimate at probability p is at most t px; a rule of two levels
+stops at whichever comes first: e.g. (0.01, 0, 1) + (0.2, 0, 5) stops at once on a view with no
+pixel above 0.01, and otherwise after five views clear at 0.2. The bridge's own rule is one level.
+
+Rules are chosen on CHOOSE (the fewest mean steps among those stopping on a truly clear view in at
+least --need of its scenes) and shown on CHECK, other validation scenes, beside the one-level
+rule given with --baseline. Episodes that never stop count at --max-steps.
+
+Usage: stopping_rules.py CHOOSE.csv [CHECK.csv] [--need 0.95] [--baseline 0.2,0,5] [--top 10]
+Exits 1 on unreadable input."""
+import argparse
+import csv
+import itertools
+import sys
+from collections import OrderedDict
+
+PREFIX = "estimated_px_at_"
+
+
+def load(path):
+    """{seed: [(true_px, {probability: estimated_px}), ...]} and the probabilities, as written."""
+    paths = OrderedDict()
+    try:
+        with open(path, newline="") as handle:
+            reader = csv.DictReader(handle)
+            probabilities = [name[len(PREFIX):] for name in reader.fieldnames or []
+                             if name.startswith(PREFIX)]
+            if not probabilities or "true_px" not in (reader.fieldnames or []):
+                raise ValueError("not a --views-csv file")
+            for row in reader:
+                estimates = {p: int(row[PREFIX + p]) for p in probabilities}
+                paths.setdefault(int(row["seed"]), []).append((int(row["true_px"]), estimates))
+    except (OSError, ValueError, KeyError) as error:
+        sys.exit(f"stopping_rules.py: {path}: {error}")
+    return paths, probabilities
+
+
+def stop_step(path, levels):
+    """The step where the rule stops, or None."""
+    in_a_row = [0] * len(levels)
+    for step in range(1, len(path)):
+        for i, (probability, threshold, views) in enumerate(levels):
+            clear = path[step][1][probability] <= threshold
+            in_a_row[i] = in_a_row[i] + 1 if clear else 0
+            if in_a_row[i] >= views:
+                return step
+    return None
+
+
+def score(paths, levels, max_steps):
+    """(stops on a clear view, too early, never, mean steps to the stop)."""
+    clear = early = never = 0
+    steps = 0
+    for path in paths.values():
+        step = stop_step(path, levels)
+        if step is None:
+            never += 1
+            steps += max_steps
+        else:
+            clear += path[step][0] == 0
+            early += path[step][0] != 0
+            steps += step
+    return clear, early, never, steps / len(paths)
+
+
+def describe(levels):
+    return " + ".join(f"({p}, {t}, {k})" for p, t, k in levels)
+
+
+def show(counts):
+    clear, early, never, steps = counts
+    return f"{clear} / {early} / {never}, {steps:.2f}"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("choose")
+    parser.add_argument("check", nargs="?")
+    parser.add_argument("--need", type=float, default=0.95,
+                        help="fraction of the scenes a rule must stop on a truly clear view")
+    parser.add_argument("--baseline", default="0.2,0,5", help="the one-level rule p,t,k shown too")
+    parser.add_argument("--thresholds", default="0,16", help="candidate thresholds t [px]")
+    parser.add_argument("--views", default="1,2,3,4,5,6", help="candidate views in a row k")
+    parser.add_argument("--max-steps", type=int, default=50)
+    parser.add_argument("--top", type=int, default=10)
+    args = parser.parse_args()
+    choose, probabilities = load(args.choose)
+    check = None
+    if args.check:
+        check, check_probabilities = load(args.check)
+        probabilities = [p for p in probabilities if p in check_probabilities]
+    thresholds = [int(t) for t in args.thresholds.split(",")]
+    views = [int(k) for k in args.views.split(",")]
+    p, t, k = args.baseline.split(",")
+    baseline = [(p, int(t), int(k))]
+    if p not in probabilities:
+        sys.exit(f"stopping_rules.py: the baseline's probability {p} is not in the CSV files")
+
+    levels = [(p, t, k) for p in probabilities for t in thresholds for k in views]
+    rules = [[level] for level in levels]
+    rules += [list(pair) for pair in itertools.combinations(levels, 2) if pair[0][2] != pair[1][2]]
+    chosen = []
+    for rule in rules:
+        counts = score(choose, rule, args.max_steps)
+        if counts[0] >= args.need * len(choose):
+            chosen.append((counts[3], rule, counts))
+    chosen.sort(key=lambda entry: entry[0])
+
+    def first_clear(paths):
+        steps = [next((s for s in range(1, len(path)) if path[s][0] == 0), args.max_steps)
+                 for path in paths.values()]
+        return sum(steps) / len(steps)
+
+    print(f"choose: {args.choose}, {len(choose)} scenes, the path's first truly clear view after "
+          f"{first_clear(choose):.2f} steps")
+    if check:
+        print(f"check: {args.check}, {len(check)} scenes, first truly clear view after "
+              f"{first_clear(check):.2f} steps")
+    print("\n(stops on a clear view / too early / never, mean steps to the stop)\n")
+    header = "| rule (p, t px, k views) | choose |" + (" check |" if check else "")
+    print(header)
+    print("|---|---|" + ("---|" if check else ""))
+    for _, rule, counts in [(None, baseline, score(choose, baseline, args.max_steps))] + \
+            chosen[:args.top]:
+        line = f"| {describe(rule)} | {show(counts)} |"
+        if check:
+            line += f" {show(score(check, rule, args.max_steps))} |"
+        print(line)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
