@@ -1,5 +1,6 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
-scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries."""
+scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries,
+scripts/stopping_rules.py on calibration views written here."""
 import json
 import os
 import subprocess
@@ -203,3 +204,49 @@ def test_ppo_rate_is_the_median_over_the_updates_asked_for(tmp_path):
     failed = subprocess.run([sys.executable, PPO_RATE, tmp_path / "run", "--from-update", "9"],
                             capture_output=True, text=True)
     assert failed.returncode == 1 and "no update from 9" in failed.stderr
+
+
+STOPPING_RULES = os.path.join(ROOT, "scripts", "stopping_rules.py")
+
+
+def write_views(path, episodes):
+    """episodes: {seed: [(true_px, px at 0.01, px at 0.2), ...]}, the start view first."""
+    lines = ["seed,step,true_px,estimated_px_at_0.01,estimated_px_at_0.2"]
+    for seed, views in episodes.items():
+        lines += [f"{seed},{step},{true},{low},{high}"
+                  for step, (true, low, high) in enumerate(views)]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_stopping_rules_stop_at_the_first_level_that_confirms(tmp_path):
+    # Scene 1: clear at 0.2 from step 1 on, truly clear from step 2 on; nothing ever below 0.01
+    # except step 3. Scene 2: never clear at 0.2, truly clear at step 2, sure (0 at 0.01) at 2.
+    views = tmp_path / "views.csv"
+    write_views(views, {
+        1: [(9, 9, 9), (3, 5, 0), (0, 5, 0), (0, 0, 0), (0, 5, 0)],
+        2: [(9, 9, 9), (4, 5, 5), (0, 0, 5), (0, 5, 5), (0, 5, 5)],
+    })
+    result = subprocess.run([sys.executable, STOPPING_RULES, views, "--baseline", "0.2,0,2",
+                             "--need", "1.0", "--views", "1,2", "--thresholds", "0",
+                             "--max-steps", "4", "--top", "50"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rows = {line.split("|")[1].strip(): line.split("|")[2].strip()
+            for line in result.stdout.splitlines() if line.startswith("| (")}
+    # The baseline: scene 1 stops at step 2 (clear), scene 2 never (counted at 4): 1 / 0 / 1.
+    assert rows["(0.2, 0, 2)"] == "1 / 0 / 1, 3.00"
+    # Sure views stop scene 2 at once at step 2, scene 1 at step 3: both truly clear.
+    assert rows["(0.01, 0, 1)"] == "2 / 0 / 0, 2.50"
+    # Two levels: whichever confirms first (scene 1 at step 2 by 0.2, scene 2 at step 2).
+    assert rows["(0.01, 0, 1) + (0.2, 0, 2)"] == "2 / 0 / 0, 2.00"
+    # (0.2, 0, 1) stops scene 1 at step 1, too early, so it is not among the rules shown.
+    assert "(0.2, 0, 1)" not in rows
+    assert "first truly clear view after 2.00 steps" in result.stdout
+
+
+def test_stopping_rules_refuses_a_file_without_estimates(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("seed,step,true_px\n1,0,5\n")
+    result = subprocess.run([sys.executable, STOPPING_RULES, bad], capture_output=True, text=True)
+    assert result.returncode == 1
+    assert "not a --views-csv file" in result.stderr
