@@ -419,7 +419,7 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
           .add("mask_coverage", &O::mask_coverage,
                OptionSpec("a network pixel is labelled occluded where at least this fraction of "
                           "its area is occluded (0.5: the paper's masks; 0.01: any occluded "
-                          "pixel, for the camera bridge's estimate)")
+                          "pixel)")
                    .range(0.001, 1))
           .add("init_from", &O::init_from,
                OptionSpec("start from this model's weights (a best.pt of an earlier run of the "

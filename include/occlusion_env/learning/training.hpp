@@ -38,8 +38,8 @@ struct TrainingData {
   std::vector<std::string> extra_dataset_dirs;  // further datasets, if any
 };
 
-/// The fraction of a network pixel's area that must be occluded for its label to be (the
-/// paper's masks, the validation IoU of every table).
+/// The fraction of a network pixel's area that must be occluded for it to be labelled occluded,
+/// in the paper's masks and in the validation IoU of every table.
 constexpr double kPaperMaskCoverage = 0.5;
 
 /// Reads every complete scene of the dataset in `dir` as the network sees it (`format`), split by
