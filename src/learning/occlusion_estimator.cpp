@@ -46,21 +46,43 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
     if (format_.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
     findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);
   }
+  const std::int64_t cleared = clearFoundSurfaces(small_mask_);
+  // In image pixels, as the estimate counts.
+  const double grid_area = static_cast<double>(size) * size;
+  return static_cast<std::int64_t>(
+      std::llround(cleared * static_cast<double>(image_size.area()) / grid_area));
+}
+
+std::int64_t OcclusionEstimator::clearFoundSurfaces(cv::Mat& small_mask) const {
   std::int64_t cleared = 0;
-  for (int row = 0; row < size; ++row) {
-    std::uint8_t* verdict = small_mask_.ptr<std::uint8_t>(row);
+  for (int row = 0; row < small_mask.rows; ++row) {
+    std::uint8_t* verdict = small_mask.ptr<std::uint8_t>(row);
     const std::uint8_t* surface = scratch_.on_surface.ptr<std::uint8_t>(row);
-    for (int col = 0; col < size; ++col) {
+    for (int col = 0; col < small_mask.cols; ++col) {
       if (verdict[col] && surface[col]) {
         verdict[col] = 0;
         ++cleared;
       }
     }
   }
-  // In image pixels, as the estimate counts.
-  const double grid_area = static_cast<double>(size) * size;
-  return static_cast<std::int64_t>(
-      std::llround(cleared * static_cast<double>(image_size.area()) / grid_area));
+  return cleared;
+}
+
+std::int64_t OcclusionEstimator::occludedPixelsAt(double probability) {
+  if (last_image_size_.empty()) {
+    throw InvalidStateError("occlusion estimator: occludedPixelsAt() before any estimate()");
+  }
+  if (!(probability > 0.0 && probability < 1.0)) {
+    throw InvalidArgumentError("occlusion probability threshold must lie in (0, 1)");
+  }
+  // As estimate() thresholds: the logit of the probability, in float.
+  const auto logit_threshold = static_cast<float>(std::log(probability / (1.0 - probability)));
+  const int size = model_->network->config().input_size;
+  const cv::Mat logits(size, size, CV_32FC1, last_logits_.data_ptr<float>());
+  cv::compare(logits, logit_threshold, other_small_mask_, cv::CMP_GT);
+  if (surfaces_) clearFoundSurfaces(other_small_mask_);
+  cv::resize(other_small_mask_, other_mask_, last_image_size_, 0.0, 0.0, cv::INTER_NEAREST);
+  return cv::countNonZero(other_mask_);
 }
 
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
@@ -81,6 +103,8 @@ OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat
     }
   }
   estimate.mean_probability = probability_sum / (static_cast<double>(size) * size);
+  last_logits_ = logits;  // for occludedPixelsAt()
+  last_image_size_ = rgb.size();
   if (surfaces_) estimate.cleared_pixels = clearBoundingSurfaces(depth, intrinsics, rgb.size());
   // Nearest neighbour: every image pixel takes its network pixel's verdict.
   cv::resize(small_mask_, mask, rgb.size(), 0.0, 0.0, cv::INTER_NEAREST);

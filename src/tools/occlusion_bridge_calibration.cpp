@@ -144,12 +144,10 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
   const std::unique_ptr<Agent> agent = registry.make(
       args.agent, {environment, args.agent_model.empty() ? args.model : args.agent_model});
   const auto model = std::make_shared<learning::LoadedModel>(learning::loadModel(args.model));
-  std::vector<learning::OcclusionEstimator> estimators;
   std::optional<BoundingSurfaceOptions> surfaces;
   if (args.clear_bounding_surfaces) surfaces.emplace();
-  for (const double probability : args.probabilities) {
-    estimators.emplace_back(model, probability, surfaces);
-  }
+  // One pass of the network per view; each probability's count from its map.
+  learning::OcclusionEstimator estimator(model, args.probabilities.front(), surfaces);
   cv::Mat mask, depth_16u, depth_mm;
   std::vector<std::vector<View>> views(args.scenes);
   for (int scene = 0; scene < args.scenes; ++scene) {
@@ -168,11 +166,10 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       }
       View view;
       view.true_pixels = info.occlusion.total_pixels;
-      for (learning::OcclusionEstimator& estimator : estimators) {
-        estimator.setCameraRadius(learning::cameraRadius(info.world_from_optical));
-        view.estimated_pixels.push_back(
-            estimator.estimate(observation.rgb, observation.depth, info.intrinsics, mask)
-                .occluded_pixels);
+      estimator.setCameraRadius(learning::cameraRadius(info.world_from_optical));
+      estimator.estimate(observation.rgb, observation.depth, info.intrinsics, mask);
+      for (const double probability : args.probabilities) {
+        view.estimated_pixels.push_back(estimator.occludedPixelsAt(probability));
       }
       views[scene].push_back(view);
       if (t == options.max_steps) break;

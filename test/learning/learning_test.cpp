@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <set>
 
 #include "learning/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
@@ -1084,6 +1086,43 @@ TEST(LearningTest, OcclusionEstimatedOnAWallIsClearedAndOnAnObjectInFrontOfItKep
   depth(box).setTo(2.0f);
   EXPECT_EQ(clearing.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
   EXPECT_EQ(cleared_input.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 0);
+}
+
+// Several thresholds from one pass: each count is what an estimator at that threshold counts,
+// its floors and walls cleared alike.
+TEST(LearningTest, OccludedPixelsAtAnotherProbabilityAreThatEstimatorsCount) {
+  NetworkConfig config;
+  config.input_size = 32;
+  auto model = std::make_shared<LoadedModel>();
+  torch::manual_seed(3);
+  model->network = MultiTaskUNet(config);
+  model->network->eval();
+  // A wall 2 m away and a box 1.2 m away in front of it (as above).
+  cv::Mat rgb(96, 128, CV_8UC3, cv::Scalar(120, 110, 100));
+  cv::Mat depth(96, 128, CV_32FC1, cv::Scalar(2.0f));
+  depth(cv::Rect(40, 24, 48, 48)).setTo(1.2f);
+  rgb(cv::Rect(40, 24, 48, 48)).setTo(cv::Scalar(200, 40, 40));
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 96, M_PI / 3.0);
+  cv::Mat mask;
+  for (const bool clearing : {false, true}) {
+    std::optional<BoundingSurfaceOptions> surfaces;
+    if (clearing) surfaces.emplace();
+    OcclusionEstimator one_pass(model, 0.5, surfaces);
+    EXPECT_THROW(one_pass.occludedPixelsAt(0.5), InvalidStateError);
+    one_pass.estimate(rgb, depth, intrinsics, mask);
+    std::set<std::int64_t> counts;
+    for (const double probability :
+         {0.01, 0.3, 0.45, 0.48, 0.49, 0.5, 0.51, 0.52, 0.55, 0.7, 0.99}) {
+      OcclusionEstimator alone(model, probability, surfaces);
+      const std::int64_t expected = alone.estimate(rgb, depth, intrinsics, mask).occluded_pixels;
+      EXPECT_EQ(one_pass.occludedPixelsAt(probability), expected)
+          << "probability " << probability << (clearing ? ", cleared" : "");
+      counts.insert(expected);
+    }
+    // Thresholds on both sides of the map: a count that ignored its probability would fail.
+    EXPECT_GE(counts.size(), 2u) << "every threshold counts alike";
+    EXPECT_THROW(one_pass.occludedPixelsAt(1.0), InvalidArgumentError);
+  }
 }
 
 TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {

@@ -43,6 +43,12 @@ class OcclusionEstimator {
   OcclusionEstimate estimate(const cv::Mat& rgb, const cv::Mat& depth,
                              const CameraIntrinsics& intrinsics, cv::Mat& mask);
 
+  /// The occluded pixels [px, at the image's resolution] that the last estimate() would have
+  /// counted at `probability` instead of its own threshold, its floors and walls cleared as
+  /// they were: several thresholds from one pass of the network. Throws InvalidStateError
+  /// before the first estimate() and InvalidArgumentError for a probability outside (0, 1).
+  std::int64_t occludedPixelsAt(double probability);
+
   const LoadedModel& model() const { return *model_; }
   /// The camera's distance from the sphere's centre [m] (4 until set), for a model whose depth
   /// is relative to it (depth_reference: radius; network_input.hpp). Throws InvalidArgumentError
@@ -54,6 +60,9 @@ class OcclusionEstimator {
   /// how many image pixels that was.
   std::int64_t clearBoundingSurfaces(const cv::Mat& depth, const CameraIntrinsics& intrinsics,
                                      const cv::Size& image_size);
+  /// Zeroes the network pixels of `small_mask` on the surfaces the last estimate found; returns
+  /// how many it zeroed.
+  std::int64_t clearFoundSurfaces(cv::Mat& small_mask) const;
 
   std::shared_ptr<LoadedModel> model_;
   float logit_threshold_;  // log(p / (1 - p)) of the probability threshold
@@ -61,6 +70,11 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
+  // The last estimate's logits ([1, 1, S, S], kept, not copied) and image size, for
+  // occludedPixelsAt().
+  torch::Tensor last_logits_;
+  cv::Size last_image_size_;
+  cv::Mat other_small_mask_, other_mask_;  // occludedPixelsAt()'s, reused
   // With surfaces: the finder, run on the network pixels' mean depths (network_input.hpp).
   std::optional<BoundingSurfaceFinder> surfaces_;
 };
