@@ -36,6 +36,8 @@ def load(path):
                 paths.setdefault(int(row["seed"]), []).append((int(row["true_px"]), estimates))
     except (OSError, ValueError, KeyError) as error:
         sys.exit(f"stopping_rules.py: {path}: {error}")
+    if not paths:
+        sys.exit(f"stopping_rules.py: {path}: no views")
     return paths, probabilities
 
 

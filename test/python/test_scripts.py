@@ -250,3 +250,8 @@ def test_stopping_rules_refuses_a_file_without_estimates(tmp_path):
     result = subprocess.run([sys.executable, STOPPING_RULES, bad], capture_output=True, text=True)
     assert result.returncode == 1
     assert "not a --views-csv file" in result.stderr
+    empty = tmp_path / "empty.csv"
+    write_views(empty, {})
+    result = subprocess.run([sys.executable, STOPPING_RULES, empty], capture_output=True, text=True)
+    assert result.returncode == 1
+    assert "no views" in result.stderr
