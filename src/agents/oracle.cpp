@@ -169,15 +169,43 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
 std::optional<Action> OcclusionOracle::unoccludingStep(const SphericalPose& pose,
                                                        double elevation_low,
                                                        double elevation_high) {
-  for (int k = 0; k < options_.circle_directions; ++k) {
-    const double direction = 2.0 * M_PI * k / options_.circle_directions;
-    const Action step = move(direction, step_rad_);
+  // Every direction of the circle is tried; the step taken is the middle one of the widest run
+  // of neighbouring directions that all unocclude, so that a step a little off (an agent
+  // imitating it) still lands in the clear. The first direction found would lie at the run's
+  // edge, where most steps a few degrees off do not.
+  const int directions = options_.circle_directions;
+  unoccluding_.assign(static_cast<std::size_t>(directions), 0);
+  int found = 0;
+  for (int k = 0; k < directions; ++k) {
+    const Action step = move(2.0 * M_PI * k / directions, step_rad_);
     if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
     const SphericalPose there{pose.azimuth_rad + step.d_azimuth_rad,
                               pose.elevation_rad + step.d_elevation_rad};
-    if (solved(occlusionAt(there))) return step;
+    if (solved(occlusionAt(there))) {
+      unoccluding_[static_cast<std::size_t>(k)] = 1;
+      ++found;
+    }
   }
-  return std::nullopt;
+  if (found == 0) return std::nullopt;
+  int middle = 0;  // the whole circle unoccludes: any direction does
+  if (found < directions) {
+    // Runs around the circle, starting after a direction that does not unocclude.
+    int start = 0;
+    while (unoccluding_[static_cast<std::size_t>(start)]) ++start;
+    int best_length = 0, length = 0;
+    for (int i = 1; i <= directions; ++i) {
+      const int k = (start + i) % directions;
+      if (unoccluding_[static_cast<std::size_t>(k)]) {
+        if (++length > best_length) {
+          best_length = length;
+          middle = (k - (length - 1) / 2 + directions) % directions;
+        }
+      } else {
+        length = 0;
+      }
+    }
+  }
+  return move(2.0 * M_PI * middle / directions, step_rad_);
 }
 
 OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
@@ -52,6 +55,58 @@ TEST(OracleTest, TheOracleAgentRealisesTheBoundAndNoAgentBeatsIt) {
       EXPECT_GE(other.countedSteps(), record.steps) << name << " beat the oracle on seed " << seed;
     }
   }
+}
+
+// One step from a clear view, the step is the middle of the widest run of the circle's directions
+// that unocclude (counted here by rendering each), not the first direction found: an agent that
+// imitates it a few degrees off still lands in the clear.
+TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
+  Environment environment(smallOptions());
+  const int directions = OracleOptions{}.circle_directions;
+  int checked = 0;
+  for (std::uint64_t seed = 0; seed < 12 && checked < 3; ++seed) {
+    ResetOptions reset;
+    reset.start_azimuth_rad = 0.0;
+    const StepResult start = environment.reset(seed, reset);
+    OcclusionOracle oracle(environment);
+    const OracleAnswer bound = oracle.query(start.info.pose);
+    if (bound.steps < 2) continue;
+    // The pose one step before the path's end.
+    SphericalPose pose = start.info.pose;
+    for (std::size_t i = 0; i + 1 < bound.path.size(); ++i) {
+      pose = environment.camera().moved(pose, bound.path[i].d_azimuth_rad,
+                                        bound.path[i].d_elevation_rad);
+    }
+    const OracleAnswer answer = oracle.query(pose);
+    if (answer.steps != 1) continue;
+    std::vector<bool> clear(directions);
+    for (int k = 0; k < directions; ++k) {
+      const double angle = 2.0 * M_PI * k / directions;
+      const SphericalPose there{pose.azimuth_rad + 0.05 * std::cos(angle),
+                                pose.elevation_rad + 0.05 * std::sin(angle)};
+      clear[k] = environment.reward().solved(environment.viewFrom(there).occlusion.total_pixels);
+    }
+    // The widest run of clear directions (not the whole circle: the pose itself is occluded).
+    int best_start = 0, best_length = 0;
+    for (int k = 0; k < directions; ++k) {
+      if (!clear[k] || clear[(k + directions - 1) % directions]) continue;  // a run's first
+      int length = 0;
+      while (length < directions && clear[(k + length) % directions]) ++length;
+      if (length > best_length) {
+        best_start = k;
+        best_length = length;
+      }
+    }
+    ASSERT_GT(best_length, 0) << "seed " << seed;
+    if (best_length < 3) continue;  // at the edge and in the middle alike
+    const long nearest = std::lround(answer.firstDirectionRad() * directions / (2.0 * M_PI));
+    const int chosen = static_cast<int>((nearest % directions + directions) % directions);
+    const int offset = (chosen - best_start + directions) % directions;
+    EXPECT_EQ(offset, (best_length - 1) / 2)
+        << "seed " << seed << ": a run of " << best_length << " from direction " << best_start;
+    ++checked;
+  }
+  EXPECT_GE(checked, 1) << "no scene gave a one-step pose with a run of 3 directions or more";
 }
 
 TEST(OracleTest, UnoccludedPoseNeedsNoStepAndOptionsAreChecked) {

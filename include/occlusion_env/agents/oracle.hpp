@@ -74,7 +74,8 @@ class OcclusionOracle {
   // max_steps steps and the elevation limit; none when there is none.
   std::optional<Eigen::Vector2d> nearestUnoccludedLatticeOffset(const SphericalPose& pose);
   // A single step from `pose` to an unoccluded view, its elevation change within
-  // [elevation_low, elevation_high]; none when no direction of the circle gives one.
+  // [elevation_low, elevation_high]: the middle of the widest run of the circle's directions
+  // that give one; none when none does.
   std::optional<Action> unoccludingStep(const SphericalPose& pose, double elevation_low,
                                         double elevation_high);
 
@@ -85,6 +86,7 @@ class OcclusionOracle {
   bool anchored_ = false;
   SphericalPose anchor_;
   std::map<LatticeIndex, std::int64_t> cache_;
+  std::vector<char> unoccluding_;  // per circle direction, unoccludingStep()'s
   int renders_ = 0;
 };
 
