@@ -129,6 +129,8 @@ if derived:
         changed = ", ".join(f"`{k}: {v}`" for k, v in d["changed"].items())
         lines.append(f"| `{m['file']}` | `{d['file']}` (sha256 {d['sha256'][:12]}...) | {changed} | "
                      f"{os.path.getsize(pt) / 1e6:.1f} MB | `{digest}` |")
+    lines += ["", "(The derived files hold the same bytes as their source: git stores them once. Their "
+              "manifests differ.)"]
     lines += ["", "Their figures and what they are for: doc/TRAINING.md, \"Training for real cameras\"."]
 if policies:
     lines += ["", "PPO policies (`occlusion_train_ppo`); the training curves' end points are the means "

@@ -76,6 +76,10 @@ std::string defaultModelPath() {
   return packageShareDirectory() + "/models/multitask_unet64.pt";
 }
 
+std::string escapeModelPath() {
+  return packageShareDirectory() + "/models/multitask_unet64_escape.pt";
+}
+
 std::string cameraModelPath() {
   return packageShareDirectory() + "/models/multitask_unet64_camera.pt";
 }
@@ -102,8 +106,9 @@ AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,
 namespace {
 
 AgentEntry networkEntry(const std::string& name, const std::string& summary,
-                        const std::string& paper_label, DirectionHead head) {
-  return modelAgentEntry(name, summary, paper_label, defaultModelPath(),
+                        const std::string& paper_label, const std::string& default_model_path,
+                        DirectionHead head) {
+  return modelAgentEntry(name, summary, paper_label, default_model_path,
                          [head](const std::string& path) {
                            return std::make_unique<NetworkDirectionAgent>(
                                std::make_shared<LoadedModel>(loadModel(path)), head);
@@ -116,16 +121,17 @@ AgentEntry predictedGradientAgentEntry() {
   return networkEntry("predicted_gradient",
                       "a unit move along the descent direction the multi-task network predicts "
                       "from the RGB-D image alone",
-                      "Pred. Grad", DirectionHead::kGradient);
+                      "Pred. Grad", defaultModelPath(), DirectionHead::kGradient);
 }
 
 AgentEntry predictedEscapeAgentEntry() {
   return networkEntry("predicted_escape",
                       "a unit move along the escape direction (the oracle's first step) the "
-                      "multi-task network predicts from the RGB-D image alone (with an "
+                      "multi-task network, fine-tuned on the agent's own states (DAgger), "
+                      "predicts from the RGB-D image alone (with an "
                       "escape-bins head: its best bin, leaning towards the last move); along a "
                       "floor that stopped the rig, aside from a view it has just left",
-                      "", DirectionHead::kEscape);
+                      "", escapeModelPath(), DirectionHead::kEscape);
 }
 
 AgentRegistry learningAgents() {

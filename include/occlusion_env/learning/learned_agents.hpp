@@ -47,8 +47,12 @@ class NetworkDirectionAgent : public Agent {
 };
 
 /// The shipped model the learned agents use by default in the simulator (models/, doc/AGENTS.md):
-/// the network of the paper's tables, trained in the void with perfect depth.
+/// the network of the paper's tables, trained in the void with perfect depth. The predicted-
+/// gradient agent and the PPO policies' backbone.
 std::string defaultModelPath();
+/// The predicted-escape agent's default network in the simulator: the default model fine-tuned on
+/// the agent's own states with the oracle's labels (two DAgger rounds, doc/TRAINING.md, "DAgger").
+std::string escapeModelPath();
 /// The shipped model for a depth camera: the same weights, reading depth with its dropouts filled
 /// (depth_gaps filled, doc/TRAINING.md). The camera bridge's estimate was fine-tuned from it.
 std::string cameraModelPath();
