@@ -3,6 +3,7 @@
 // as a dataset occlusion_train reads beside the base data; resumable (re-run the same command).
 //   occlusion_dagger --model models/multitask_unet64.pt --out data/dagger_1 --scenes 1000
 //       --first-seed 100000 --source sweethome3d --category chair --category table --size 128
+//   ... --world room --depth-sensor realsense_d435: the same in a room through a sensor's depth
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -79,7 +80,8 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, learning::daggerOptionTable(), args.options);
   tools::addOptionFlags(
       app, dataset::datasetOptionTable(), args.options.data,
-      {"size", "source", "catalog_paths", "categories", "num_objects", "validation_fraction"});
+      {"size", "source", "catalog_paths", "categories", "num_objects", "validation_fraction",
+       "world", "depth_sensor", "randomize", "max_scene_attempts"});
   app.callback([&args] {
     if (args.out.empty()) throw CLI::ValidationError("give --out");
     if (args.options.model.empty()) throw CLI::ValidationError("give --model");

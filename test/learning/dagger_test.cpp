@@ -128,6 +128,31 @@ TEST(DaggerTest, WritesTheAgentsStatesWithTheOraclesLabelsAndResumes) {
   for (const fs::path& path : {model_dir, dir, base_dir}) fs::remove_all(path);
 }
 
+TEST(DaggerTest, RollsOutInARoomThroughADepthSensorModel) {
+  // occlusion_dagger --world room --depth-sensor realsense_d435: the agent's states are those of
+  // a room seen through the sensor model, and each frame records that setup.
+  const fs::path model_dir = temporaryDir("occlusion_env_dagger_room_model");
+  DaggerOptions options = tinyDagger(untrainedModel(model_dir));
+  options.scenes = 1;
+  options.max_steps = 2;
+  options.threads = 1;
+  options.data.world = "room";
+  options.data.depth_sensor = "realsense_d435";
+  const fs::path dir = temporaryDir("occlusion_env_dagger_room_data");
+  const DaggerReport report = writeDaggerDataset(dir.string(), options);
+  ASSERT_EQ(report.scenes_written, 1);
+  const dataset::BopDataset data(dir.string());
+  EXPECT_EQ(data.manifest().at("options").at("world"), "room");
+  EXPECT_EQ(data.manifest().at("options").at("depth_sensor"), "realsense_d435");
+  ASSERT_FALSE(data.frames().empty());
+  for (const dataset::Frame& frame : data.frames()) {
+    ASSERT_TRUE(frame.labels.setup.has_value());
+    EXPECT_EQ(frame.labels.setup->world, "room");
+    EXPECT_EQ(frame.labels.setup->depth_sensor, "realsense_d435");
+  }
+  for (const fs::path& path : {model_dir, dir}) fs::remove_all(path);
+}
+
 TEST(DaggerTest, RefusesValidationAndTestSeeds) {
   DaggerOptions options = tinyDagger("unused.pt");
   options.first_seed = 899999;  // the second scene would be a validation scene
