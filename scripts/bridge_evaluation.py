@@ -90,8 +90,12 @@ def main():
     if os.path.exists(episodes_csv):
         os.remove(episodes_csv)
 
-    import rospy
-    from occlusion_env.msg import GroundTruthView
+    try:
+        import rospy
+        from occlusion_env.msg import GroundTruthView
+    except ImportError as error:
+        sys.exit("bridge_evaluation: %s: source the workspace first "
+                 "(source .build_ws/devel/setup.bash after make build)" % error)
 
     command = ["roslaunch", "occlusion_env", "bridge_evaluation.launch",
                "seeds:=[%s]" % ", ".join(str(s) for s in seeds), "csv:=" + episodes_csv,
