@@ -63,6 +63,7 @@ TEST(OracleTest, TheOracleAgentRealisesTheBoundAndNoAgentBeatsIt) {
 TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
   Environment environment(smallOptions());
   const int directions = OracleOptions{}.circle_directions;
+  const double step_rad = smallOptions().step_size_rad;
   int checked = 0;
   for (std::uint64_t seed = 0; seed < 12 && checked < 3; ++seed) {
     ResetOptions reset;
@@ -82,8 +83,8 @@ TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
     std::vector<bool> clear(directions);
     for (int k = 0; k < directions; ++k) {
       const double angle = 2.0 * M_PI * k / directions;
-      const SphericalPose there{pose.azimuth_rad + 0.05 * std::cos(angle),
-                                pose.elevation_rad + 0.05 * std::sin(angle)};
+      const SphericalPose there{pose.azimuth_rad + step_rad * std::cos(angle),
+                                pose.elevation_rad + step_rad * std::sin(angle)};
       clear[k] = environment.reward().solved(environment.viewFrom(there).occlusion.total_pixels);
     }
     // The widest run of clear directions (none found when the whole circle clears: then any
