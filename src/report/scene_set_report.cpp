@@ -1,5 +1,6 @@
 #include "occlusion_env/report/scene_set_report.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -33,6 +34,15 @@ std::string writeSceneSetSummary(const EvalOptions& cl, const std::vector<Episod
            << fs::path(episodes_csv).filename().string() << "`. BEST: " << cl.best.chains
            << " chains x " << cl.best.samples_per_chain << " samples after "
            << cl.best.burn_in_iterations << " burn-in (JAGS, seed " << cl.best.seed << ").";
+  // Through the camera bridge an episode ends on the bridge's verdict: say so where it is counted.
+  const bool estimated = std::any_of(records.begin(), records.end(), [](const EpisodeRecord& r) {
+    return r.occlusion_source == OcclusionSource::kEstimated;
+  });
+  if (estimated) {
+    preamble << " Through the camera bridge: a success is the bridge's verdict on its estimate, "
+                "not the simulator's truth; how often the view was truly clear: `"
+             << name << ".md`.";
+  }
   std::string markdown =
       renderSummaryMarkdown("Evaluation: " + name, preamble.str(), agents, comparisons);
   if (cl.plots) {

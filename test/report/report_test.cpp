@@ -1,14 +1,17 @@
-// The evaluation report's pieces that need no episodes: links into the output folder, and the
-// Table 3 layout and PPO section read from the manifests of a source tree.
+// The evaluation report's pieces: links into the output folder, the Table 3 layout and PPO
+// section read from the manifests of a source tree, and what a scene set's summary says.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "occlusion_env/report/evaluation_report.hpp"
 #include "occlusion_env/report/model_report.hpp"
+#include "occlusion_env/report/scene_set_report.hpp"
 
 namespace occlusion_env {
 namespace report {
@@ -89,6 +92,36 @@ TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {
                          "| 90 % |"),
             std::string::npos)
       << section;
+}
+
+// A summary of episodes that the camera bridge ended says its successes are the bridge's verdicts
+// and where the truth is; one of episodes the simulator ended does not.
+TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
+  options_.out = root_.string();
+  options_.plots = false;
+  std::vector<EpisodeRecord> records(2);
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    records[i].agent = "predicted_escape";
+    records[i].scene_set = "set";
+    records[i].scene_seed = 900000 + i;
+    records[i].max_steps = 50;
+    records[i].steps = 9;
+    records[i].end = EpisodeEnd::kSuccess;
+    records[i].final_occlusion_px = 0;
+  }
+  const std::string direct = writeSceneSetSummary(options_, records, "set", "set_episodes.csv");
+  EXPECT_EQ(direct.find("bridge's verdict"), std::string::npos) << direct;
+  for (EpisodeRecord& record : records) record.occlusion_source = OcclusionSource::kEstimated;
+  const std::string bridged =
+      writeSceneSetSummary(options_, records, "set_bridge", "set_bridge_episodes.csv");
+  EXPECT_NE(bridged.find("a success is the bridge's verdict on its estimate, not the simulator's "
+                         "truth; how often the view was truly clear: `set_bridge.md`"),
+            std::string::npos)
+      << bridged;
+  std::ifstream file(root_ / "set_bridge_summary.md");
+  const std::string written((std::istreambuf_iterator<char>(file)),
+                            std::istreambuf_iterator<char>());
+  EXPECT_EQ(written, bridged);
 }
 
 }  // namespace

@@ -17,7 +17,9 @@ std::vector<EpisodeRecord> runPlanToCsv(const eval::EvaluationPlan& plan,
                                         const std::string& csv_path);
 
 /// Summary Markdown (OUT/<name>_summary.md), BEST CSVs and plots of one scene-set run of the
-/// episodes `records` (read from or written to `episodes_csv`). Returns the Markdown.
+/// episodes `records` (read from or written to `episodes_csv`). Returns the Markdown. Records
+/// whose end was estimated (through the camera bridge) make it say that a success there is the
+/// bridge's verdict and point to OUT/<name>.md for the truth.
 std::string writeSceneSetSummary(const EvalOptions& options,
                                  const std::vector<EpisodeRecord>& records, const std::string& name,
                                  const std::string& episodes_csv);
