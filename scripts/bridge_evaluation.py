@@ -68,6 +68,10 @@ def main():
     parser.add_argument("--occlusion-probability", type=float, default=None,
                         help="the bridge's ~occlusion_probability (default: config/camera_bridge.yaml's, "
                         "chosen for the default model)")
+    parser.add_argument("--occlusion-threshold", type=int, default=None,
+                        help="the bridge's ~occlusion_threshold [px] (default: config/camera_bridge.yaml's)")
+    parser.add_argument("--confirm-views", type=int, default=None,
+                        help="the bridge's ~confirm_views (default: config/camera_bridge.yaml's)")
     parser.add_argument("--agent-model", default="",
                         help="the agent's network ('': the shipped default for an agent behind a "
                         "camera)")
@@ -109,6 +113,10 @@ def main():
         command.append("agent_model:=" + os.path.abspath(args.agent_model))
     if args.occlusion_probability is not None:
         command.append("occlusion_probability:=%r" % args.occlusion_probability)
+    if args.occlusion_threshold is not None:
+        command.append("occlusion_threshold:=%d" % args.occlusion_threshold)
+    if args.confirm_views is not None:
+        command.append("confirm_views:=%d" % args.confirm_views)
     log = open(os.path.join(args.out, "roslaunch.log"), "w")
     print("bridge_evaluation:", " ".join(command), file=sys.stderr, flush=True)
     launch = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)

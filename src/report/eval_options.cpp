@@ -74,7 +74,15 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
                       "was the camera model's)")
                .above(0)
-               .below(1));
+               .below(1))
+      .add("bridge_threshold", &O::bridge_threshold_px,
+           OptionSpec("with --through-bridge: [px] a view counts as clear at or below this many "
+                      "estimated pixels (the bridge's ~occlusion_threshold)")
+               .range(0, 1 << 24))
+      .add("bridge_confirm_views", &O::bridge_confirm_views,
+           OptionSpec("with --through-bridge: this many clear step views in a row end an episode "
+                      "(the bridge's ~confirm_views)")
+               .range(1, 1000));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
 }

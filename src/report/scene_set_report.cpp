@@ -101,6 +101,8 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   plan.bridge.clear_bounding_surfaces = cl.bridge_clear_surfaces;
   plan.bridge.occlusion_probability = cl.bridge_probability;
+  plan.bridge.occlusion_threshold_px = cl.bridge_threshold_px;
+  plan.bridge.confirm_views = cl.bridge_confirm_views;
   const auto estimator = learning::makeBridgeEstimator(
       std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
   plan.bridge_estimator = estimator.get();
@@ -122,7 +124,8 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   markdown << "Scene set `" << plan.scenes.name << "` through the camera bridge's logic in front "
            << "of the simulator, network `" << cl.through_bridge << "`, "
            << plan.bridge.confirm_views << " confirming views at probability "
-           << plan.bridge.occlusion_probability << "; truly clear: the simulator's L <= "
+           << plan.bridge.occlusion_probability << " (at most "
+           << plan.bridge.occlusion_threshold_px << " px); truly clear: the simulator's L <= "
            << plan.environment.reward.success_threshold_pixels << " px where the episode ended.\n\n"
            << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);
   std::ofstream((fs::path(cl.out) / (name + ".md")).string()) << markdown.str();

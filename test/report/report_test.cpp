@@ -1,5 +1,6 @@
 // The evaluation report's pieces: links into the output folder, the Table 3 layout and PPO
-// section read from the manifests of a source tree, and what a scene set's summary says.
+// section read from the manifests of a source tree, what a scene set's summary says, and the
+// bridge's stopping rule as occlusion_eval's options.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/report/eval_options.hpp"
 #include "occlusion_env/report/evaluation_report.hpp"
 #include "occlusion_env/report/model_report.hpp"
 #include "occlusion_env/report/scene_set_report.hpp"
@@ -122,6 +124,19 @@ TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
   const std::string written((std::istreambuf_iterator<char>(file)),
                             std::istreambuf_iterator<char>());
   EXPECT_EQ(written, bridged);
+}
+
+TEST(EvalOptions, TheBridgesStoppingRuleIsTheBridgesDefaultsUnlessGiven) {
+  const CameraEnvironmentOptions bridge;
+  EvalOptions options;
+  EXPECT_EQ(options.bridge_threshold_px, bridge.occlusion_threshold_px);
+  EXPECT_EQ(options.bridge_confirm_views, bridge.confirm_views);
+  evalOptionTable().set(options, "bridge_threshold", 16);
+  evalOptionTable().set(options, "bridge_confirm_views", 3);
+  EXPECT_EQ(options.bridge_threshold_px, 16);
+  EXPECT_EQ(options.bridge_confirm_views, 3);
+  EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_confirm_views", 0));
+  EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_threshold", -1));
 }
 
 }  // namespace

@@ -129,7 +129,7 @@ TEST(CameraBridgeLaunch, ArgumentsForTheRobotSideAreDocumentedWithTheConfigsDefa
     EXPECT_NE(argument.doc.find(stated.str()), std::string::npos)
         << name << ": the doc should say " << stated.str() << "...): " << argument.doc;
   }
-  EXPECT_EQ(from_config, 7);
+  EXPECT_EQ(from_config, 9);
 }
 
 }  // namespace

@@ -48,6 +48,9 @@ struct EvalOptions {
   bool bridge_clear_surfaces = CameraEnvironmentOptions{}.clear_bounding_surfaces;
   // The bridge's occlusion_probability, its default the bridge's.
   double bridge_probability = CameraEnvironmentOptions{}.occlusion_probability;
+  // The bridge's occlusion_threshold [px at the image's size] and confirm_views, its defaults.
+  std::int64_t bridge_threshold_px = CameraEnvironmentOptions{}.occlusion_threshold_px;
+  int bridge_confirm_views = CameraEnvironmentOptions{}.confirm_views;
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
