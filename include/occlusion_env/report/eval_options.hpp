@@ -2,6 +2,7 @@
 // landscape, strip, networks and all), the agents they run and the plot script.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
