@@ -66,23 +66,27 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "bridge's logic in front of it (doc/CAMERA_BRIDGE.md), this network model "
                       "estimating the occlusion, the simulator's truth scoring where each episode "
                       "ended (OUT/<set>_bridge_*)"))
-      .add("bridge_clear_surfaces", &O::bridge_clear_surfaces,
-           OptionSpec("with --through-bridge: the bridge clears estimated occlusion on a floor "
-                      "or wall (its ~clear_bounding_surfaces)"))
-      .add("bridge_probability", &O::bridge_probability,
-           OptionSpec("with --through-bridge: a pixel counts as occluded above this probability "
-                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
-                      "was the camera model's)")
-               .above(0)
-               .below(1))
-      .add("bridge_threshold", &O::bridge_threshold_px,
-           OptionSpec("with --through-bridge: [px] a view counts as clear at or below this many "
-                      "estimated pixels (the bridge's ~occlusion_threshold)")
-               .range(0, 1 << 24))
-      .add("bridge_confirm_views", &O::bridge_confirm_views,
-           OptionSpec("with --through-bridge: this many clear step views in a row end an episode "
-                      "(the bridge's ~confirm_views)")
-               .range(1, 1000));
+      .add(
+          "bridge_clear_surfaces", [](O& o) -> bool& { return o.bridge.clear_bounding_surfaces; },
+          OptionSpec("with --through-bridge: the bridge clears estimated occlusion on a floor "
+                     "or wall (its ~clear_bounding_surfaces)"))
+      .add(
+          "bridge_probability", [](O& o) -> double& { return o.bridge.occlusion_probability; },
+          OptionSpec("with --through-bridge: a pixel counts as occluded above this probability "
+                     "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
+                     "was the camera model's)")
+              .above(0)
+              .below(1))
+      .add(
+          "bridge_threshold", [](O& o) -> std::int64_t& { return o.bridge.occlusion_threshold_px; },
+          OptionSpec("with --through-bridge: [px] a view counts as clear at or below this many "
+                     "estimated pixels (the bridge's ~occlusion_threshold)")
+              .atLeast(0))
+      .add(
+          "bridge_confirm_views", [](O& o) -> int& { return o.bridge.confirm_views; },
+          OptionSpec("with --through-bridge: this many clear step views in a row end an episode "
+                     "(the bridge's ~confirm_views)")
+              .atLeast(1));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
 }

@@ -99,10 +99,7 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 /// The --scenes mode through the bridge (--through-bridge): OUT/<set>_bridge_episodes.csv, the
 /// bridge's table in OUT/<set>_bridge.md, then the usual summary of those episodes.
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
-  plan.bridge.clear_bounding_surfaces = cl.bridge_clear_surfaces;
-  plan.bridge.occlusion_probability = cl.bridge_probability;
-  plan.bridge.occlusion_threshold_px = cl.bridge_threshold_px;
-  plan.bridge.confirm_views = cl.bridge_confirm_views;
+  plan.bridge = cl.bridge;
   const auto estimator = learning::makeBridgeEstimator(
       std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
   plan.bridge_estimator = estimator.get();

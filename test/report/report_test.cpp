@@ -129,12 +129,12 @@ TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
 TEST(EvalOptions, TheBridgesStoppingRuleIsTheBridgesDefaultsUnlessGiven) {
   const CameraEnvironmentOptions bridge;
   EvalOptions options;
-  EXPECT_EQ(options.bridge_threshold_px, bridge.occlusion_threshold_px);
-  EXPECT_EQ(options.bridge_confirm_views, bridge.confirm_views);
+  EXPECT_EQ(options.bridge.occlusion_threshold_px, bridge.occlusion_threshold_px);
+  EXPECT_EQ(options.bridge.confirm_views, bridge.confirm_views);
   evalOptionTable().set(options, "bridge_threshold", 16);
   evalOptionTable().set(options, "bridge_confirm_views", 3);
-  EXPECT_EQ(options.bridge_threshold_px, 16);
-  EXPECT_EQ(options.bridge_confirm_views, 3);
+  EXPECT_EQ(options.bridge.occlusion_threshold_px, 16);
+  EXPECT_EQ(options.bridge.confirm_views, 3);
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_confirm_views", 0));
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_threshold", -1));
 }

@@ -2,7 +2,6 @@
 // landscape, strip, networks and all), the agents they run and the plot script.
 #pragma once
 
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,13 +44,8 @@ struct EvalOptions {
   std::optional<std::string> depth_sensor;
   bool randomize = false;
   std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
-  // The bridge's clear_bounding_surfaces, its default the bridge's.
-  bool bridge_clear_surfaces = CameraEnvironmentOptions{}.clear_bounding_surfaces;
-  // The bridge's occlusion_probability, its default the bridge's.
-  double bridge_probability = CameraEnvironmentOptions{}.occlusion_probability;
-  // The bridge's occlusion_threshold [px at the image's size] and confirm_views, its defaults.
-  std::int64_t bridge_threshold_px = CameraEnvironmentOptions{}.occlusion_threshold_px;
-  int bridge_confirm_views = CameraEnvironmentOptions{}.confirm_views;
+  // With through_bridge: the bridge's stopping rule (--bridge-* flags), its defaults the bridge's.
+  CameraEnvironmentOptions bridge;
 
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
