@@ -48,8 +48,10 @@ if model == "chosen":
     # The DAgger round's choice: every candidate's mean steps on the validation scenes.
     rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))
     manifest["chosen_by"] = {
-        "scenes": rows[0].get("scene_set", "config/scenes/validation_sweethome3d.yaml")
-                  + ", predicted_escape, 50 steps at most (scripts/dagger.sh)",
+        # selection.csv's optional "selected_by" says how, where the choice was not dagger.sh's.
+        "scenes": rows[0].get("scene_set", "config/scenes/validation_sweethome3d.yaml") + ", "
+                  + (rows[0].get("selected_by")
+                     or "predicted_escape, 50 steps at most (scripts/dagger.sh)"),
         "candidates": [{"model": r["candidate"], "mean_steps": float(r["mean_steps"]),
                         "successes": int(r["successes"]), "episodes": int(r["episodes"])}
                        for r in rows],
