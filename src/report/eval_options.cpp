@@ -4,6 +4,7 @@
 #include "occlusion_env/env/scene_setup.hpp"
 
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,23 @@ namespace occlusion_env {
 namespace report {
 
 namespace {
+
+// `help` with the allowed range and unit of the camera bridge's option `bridge_key`, so that a
+// --bridge-* flag accepts what the bridge does.
+OptionSpec bridgeSpec(const std::string& bridge_key, const std::string& help) {
+  const auto* field = cameraEnvironmentOptionTable().find(bridge_key);
+  if (field == nullptr) throw std::logic_error("the bridge has no option " + bridge_key);
+  const OptionSpec& bridge = field->spec;
+  OptionSpec spec(help);
+  if (!bridge.unit().empty()) spec.unit(bridge.unit());
+  if (bridge.minimum()) {
+    bridge.openMinimum() ? spec.above(*bridge.minimum()) : spec.atLeast(*bridge.minimum());
+  }
+  if (bridge.maximum()) {
+    bridge.openMaximum() ? spec.below(*bridge.maximum()) : spec.atMost(*bridge.maximum());
+  }
+  return spec;
+}
 
 void addModes(OptionTable<EvalOptions>& table) {
   using O = EvalOptions;
@@ -68,25 +86,25 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                       "ended (OUT/<set>_bridge_*)"))
       .add(
           "bridge_clear_surfaces", [](O& o) -> bool& { return o.bridge.clear_bounding_surfaces; },
-          OptionSpec("with --through-bridge: the bridge clears estimated occlusion on a floor "
+          bridgeSpec("clear_bounding_surfaces",
+                     "with --through-bridge: the bridge clears estimated occlusion on a floor "
                      "or wall (its ~clear_bounding_surfaces)"))
       .add(
           "bridge_probability", [](O& o) -> double& { return o.bridge.occlusion_probability; },
-          OptionSpec("with --through-bridge: a pixel counts as occluded above this probability "
+          bridgeSpec("occlusion_probability",
+                     "with --through-bridge: a pixel counts as occluded above this probability "
                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
-                     "was the camera model's)")
-              .above(0)
-              .below(1))
+                     "was the camera model's)"))
       .add(
           "bridge_threshold", [](O& o) -> std::int64_t& { return o.bridge.occlusion_threshold_px; },
-          OptionSpec("with --through-bridge: [px] a view counts as clear at or below this many "
-                     "estimated pixels (the bridge's ~occlusion_threshold)")
-              .atLeast(0))
+          bridgeSpec("occlusion_threshold",
+                     "with --through-bridge: a view counts as clear at or below this many "
+                     "estimated pixels (the bridge's ~occlusion_threshold)"))
       .add(
           "bridge_confirm_views", [](O& o) -> int& { return o.bridge.confirm_views; },
-          OptionSpec("with --through-bridge: this many clear step views in a row end an episode "
-                     "(the bridge's ~confirm_views)")
-              .atLeast(1));
+          bridgeSpec("confirm_views",
+                     "with --through-bridge: this many clear step views in a row end an episode "
+                     "(the bridge's ~confirm_views)"));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
 }
