@@ -10,6 +10,10 @@ Rules are chosen on CHOOSE (the fewest mean steps among those stopping on a trul
 least --need of its scenes) and shown on CHECK, other validation scenes, beside the one-level
 rule given with --baseline. Episodes that never stop count at --max-steps.
 
+Then, at the baseline's probability and threshold, how often the estimate calls a truly clear
+view occluded, by how many views the path had already been truly clear before it (0: the first
+clear view after an occluded one): what the confirming views pay for.
+
 Usage: stopping_rules.py CHOOSE.csv [CHECK.csv] [--need 0.95] [--baseline 0.2,0,5] [--top 10]
 Exits 1 on unreadable input."""
 import argparse
@@ -67,6 +71,24 @@ def score(paths, levels, max_steps):
             early += path[step][0] != 0
             steps += step
     return clear, early, never, steps / len(paths)
+
+
+def false_alarms_by_clear_run(paths, probability, threshold, deepest=5):
+    """[(truly clear views, of them estimated above threshold px)] by the views the path had been
+    truly clear before each (0 .. deepest, the last also counting deeper ones)."""
+    counts = [[0, 0] for _ in range(deepest + 1)]
+    for path in paths.values():
+        run = -1  # views truly clear before this one, -1 after an occluded view
+        for step in range(1, len(path)):
+            true_px, estimates = path[step]
+            if true_px != 0:
+                run = -1
+                continue
+            run += 1
+            cell = counts[min(run, deepest)]
+            cell[0] += 1
+            cell[1] += estimates[probability] > threshold
+    return counts
 
 
 def describe(levels):
@@ -132,6 +154,18 @@ def main():
         if check:
             line += f" {show(score(check, rule, args.max_steps))} |"
         print(line)
+
+    p, t, _ = baseline[0]
+    print(f"\n(truly clear views: estimated above {t} px at {p}, by views truly clear before)\n")
+    print("| views clear before | choose |" + (" check |" if check else ""))
+    print("|---:|---|" + ("---|" if check else ""))
+    tables = [false_alarms_by_clear_run(paths, p, t) for paths in ([choose, check] if check
+                                                                     else [choose])]
+    for run in range(len(tables[0])):
+        label = f"{run}" if run + 1 < len(tables[0]) else f">= {run}"
+        cells = [f"{alarms} of {views}" + (f" ({100.0 * alarms / views:.0f} %)" if views else "")
+                 for views, alarms in (table[run] for table in tables)]
+        print(f"| {label} | " + " | ".join(cells) + " |")
     return 0
 
 

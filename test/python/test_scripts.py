@@ -244,6 +244,24 @@ def test_stopping_rules_stop_at_the_first_level_that_confirms(tmp_path):
     assert "first truly clear view after 2.00 steps" in result.stdout
 
 
+def test_stopping_rules_count_false_alarms_by_views_clear_before(tmp_path):
+    # Scene 3: truly clear at step 1, occluded at 2, clear again at 3 and 4; the estimate at 0.2
+    # calls steps 1 and 3 occluded (9 px > 0), step 4 clear. An occluded view restarts the count.
+    views = tmp_path / "views.csv"
+    write_views(views, {3: [(9, 9, 9), (0, 0, 9), (5, 0, 9), (0, 0, 9), (0, 0, 0)]})
+    result = subprocess.run([sys.executable, STOPPING_RULES, views, "--baseline", "0.2,0,2",
+                             "--views", "1", "--thresholds", "0", "--max-steps", "4"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rows = {line.split("|")[1].strip(): line.split("|")[2].strip()
+            for line in result.stdout.splitlines()
+            if line.startswith("| ") and " of " in line}
+    assert rows["0"] == "2 of 2 (100 %)"
+    assert rows["1"] == "0 of 1 (0 %)"
+    assert rows["2"] == "0 of 0"
+    assert rows[">= 5"] == "0 of 0"
+
+
 def test_stopping_rules_refuses_a_file_without_estimates(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("seed,step,true_px\n1,0,5\n")
