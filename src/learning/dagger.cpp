@@ -16,6 +16,7 @@
 #include "occlusion_env/common/random.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/scene_writer.hpp"
+#include "occlusion_env/env/environment_interface.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
@@ -52,7 +53,8 @@ nlohmann::json manifestFor(const DaggerOptions& options, const ObjectCatalog& ca
       "frame 0: the scene's start view; each next frame: one step of the predicted-escape agent "
       "(the model in options.dagger), or with probability beta the oracle's first step, from the "
       "previous frame; the roll-out ends at an unoccluded view (its last frame) or after "
-      "max_steps steps";
+      "max_steps steps, or with moves_past_clear > 0 that many of the agent's moves after its "
+      "first unoccluded view (outside the ended episode), within max_steps";
   return manifest;
 }
 
@@ -72,7 +74,24 @@ Rollout rollOut(dataset::SceneWriter& writer, Agent& agent, std::uint64_t seed,
   RandomSource coin(seed ^ kMixtureStreamSalt);
   Rollout rollout;
   rollout.poses.push_back(result.info.pose);
-  for (int step = 0; step < options.max_steps && !result.terminated && !result.truncated; ++step) {
+  int moves_past_clear = 0;
+  for (int step = 0; step < options.max_steps && !result.truncated; ++step) {
+    if (result.terminated) {
+      // The episode ended at an unoccluded view; the camera moves on outside it, as a camera
+      // whose stopping rule waits for more views would, and the agent still steers.
+      if (moves_past_clear == options.moves_past_clear) break;
+      ++moves_past_clear;
+      const Action action = agent.act(rigObservationOf(environment.observation(), result.info));
+      const EnvironmentOptions& environment_options = environment.options();
+      const Action move = cameraMoveFor(action, environment_options.step_size_rad,
+                                        environment_options.normalize_action);
+      result.info = environment.viewFrom(
+          environment.camera().moved(result.info.pose, move.d_azimuth_rad, move.d_elevation_rad));
+      result.info.step_index = step + 1;
+      result.info.last_action = action;
+      rollout.poses.push_back(result.info.pose);
+      continue;
+    }
     Action action = agent.act(rigObservationOf(result));
     if (options.beta > 0.0 && coin.uniform() < options.beta) {
       const OracleAnswer answer = writer.oracle().query(result.info.pose);
@@ -123,6 +142,10 @@ const OptionTable<DaggerOptions>& daggerOptionTable() {
                           "the agent's (0: the agent's own states)")
                    .range(0, 1))
           .add("max_steps", &O::max_steps, OptionSpec("moves per roll-out at most").range(1, 1000))
+          .add("moves_past_clear", &O::moves_past_clear,
+               OptionSpec("the agent's moves recorded after its first unoccluded view (the "
+                          "views a camera's stopping rule confirms on), within max_steps")
+                   .range(0, 1000))
           .add("threads", &O::threads,
                OptionSpec("worker threads, one environment and network each").range(1, 64));
   return table;
@@ -159,6 +182,8 @@ nlohmann::json DaggerOptions::definingJson() const {
                     {"model_fnv1a64", fileHash(model)},
                     {"beta", beta},
                     {"max_steps", max_steps}};
+  // Only when set, so that the datasets written before the option still resume.
+  if (moves_past_clear > 0) json["dagger"]["moves_past_clear"] = moves_past_clear;
   return json;
 }
 

@@ -3,6 +3,8 @@
 // beside a base dataset, a re-run resumes, and validation and test seeds are refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -126,6 +128,45 @@ TEST(DaggerTest, WritesTheAgentsStatesWithTheOraclesLabelsAndResumes) {
   mixed.beta = 0.5;
   EXPECT_THROW(writeDaggerDataset(dir.string(), mixed), InvalidArgumentError);
   for (const fs::path& path : {model_dir, dir, base_dir}) fs::remove_all(path);
+}
+
+TEST(DaggerTest, RecordsTheAgentsMovesPastTheFirstClearView) {
+  // With the oracle steering (beta 1) each roll-out reaches an unoccluded view; with
+  // moves_past_clear 2 the agent's next two moves are recorded after it, and no more.
+  const fs::path model_dir = temporaryDir("occlusion_env_dagger_past_model");
+  DaggerOptions options = tinyDagger(untrainedModel(model_dir));
+  options.beta = 1.0;
+  options.max_steps = 30;
+  options.moves_past_clear = 2;
+  const fs::path dir = temporaryDir("occlusion_env_dagger_past_data");
+  const DaggerReport report = writeDaggerDataset(dir.string(), options);
+  EXPECT_EQ(report.scenes_written, 2);
+  const dataset::BopDataset data(dir.string());
+  EXPECT_EQ(data.manifest().at("options").at("dagger").at("moves_past_clear"), 2);
+  for (int scene = 0; scene < 2; ++scene) {
+    const std::vector<const dataset::Frame*> frames = sceneFrames(data, scene);
+    std::size_t first_clear = 0;
+    while (first_clear < frames.size() && frames[first_clear]->labels.occlusion_px > 0) {
+      ++first_clear;
+    }
+    ASSERT_LT(first_clear, frames.size()) << "scene " << scene << " never clear";
+    ASSERT_GE(first_clear, 1u);  // a scene starts occluded
+    EXPECT_EQ(frames.size(), first_clear + 3) << "scene " << scene;
+    for (std::size_t k = first_clear + 1; k < frames.size(); ++k) {
+      // Each recorded view is one move of the camera from the one before.
+      const SphericalPose& before = frames[k - 1]->labels.pose;
+      const SphericalPose& after = frames[k]->labels.pose;
+      EXPECT_GT(std::abs(after.azimuth_rad - before.azimuth_rad) +
+                    std::abs(after.elevation_rad - before.elevation_rad),
+                1e-6)
+          << "scene " << scene << ", frame " << k;
+    }
+  }
+  // Another count of moves past clear is another dataset: refused on resume.
+  DaggerOptions other = options;
+  other.moves_past_clear = 0;
+  EXPECT_THROW(writeDaggerDataset(dir.string(), other), InvalidArgumentError);
+  for (const fs::path& path : {model_dir, dir}) fs::remove_all(path);
 }
 
 TEST(DaggerTest, RollsOutInARoomThroughADepthSensorModel) {

@@ -24,7 +24,11 @@ struct DaggerOptions {
   /// move (the DAgger mixture); 0: the agent's own states only.
   double beta = 0.0;
   int max_steps = 50;  // a roll-out ends at an unoccluded view or after max_steps moves
-  int threads = 2;     // workers, one environment (GL context) and network each
+  /// Moves of the agent recorded after the first unoccluded view (outside the episode, which has
+  /// ended there): the barely clear views a camera's stopping rule must confirm
+  /// (doc/TRAINING.md). Within max_steps moves in all.
+  int moves_past_clear = 0;
+  int threads = 2;  // workers, one environment (GL context) and network each
   /// The scenes' environment and the data's format: size, catalogue, categories, objects,
   /// validation fraction (0 here: the DAgger frames only add training frames). Its scenes,
   /// first_seed, frames and threads are set from the fields above.
