@@ -309,6 +309,15 @@ const StepInfo& Environment::viewFrom(const SphericalPose& pose) {
   return info_;
 }
 
+const StepInfo& Environment::moveOutsideEpisode(const Action& action) {
+  if (!has_episode_) throw InvalidStateError("moveOutsideEpisode() before any reset()");
+  const Action move = cameraMoveFor(action, options_.step_size_rad, options_.normalize_action);
+  viewFrom(camera_.moved(info_.pose, move.d_azimuth_rad, move.d_elevation_rad));
+  ++info_.step_index;
+  info_.last_action = action;
+  return info_;
+}
+
 void Environment::renderCurrent() {
   renderer_->render(info_.world_from_optical, buffers_);
   info_.occlusion = countOcclusion(static_cast<int>(scene_.objects.size()));

@@ -16,7 +16,6 @@
 #include "occlusion_env/common/random.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/scene_writer.hpp"
-#include "occlusion_env/env/environment_interface.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
@@ -81,14 +80,8 @@ Rollout rollOut(dataset::SceneWriter& writer, Agent& agent, std::uint64_t seed,
       // whose stopping rule waits for more views would, and the agent still steers.
       if (moves_past_clear == options.moves_past_clear) break;
       ++moves_past_clear;
-      const Action action = agent.act(rigObservationOf(environment.observation(), result.info));
-      const EnvironmentOptions& environment_options = environment.options();
-      const Action move = cameraMoveFor(action, environment_options.step_size_rad,
-                                        environment_options.normalize_action);
-      result.info = environment.viewFrom(
-          environment.camera().moved(result.info.pose, move.d_azimuth_rad, move.d_elevation_rad));
-      result.info.step_index = step + 1;
-      result.info.last_action = action;
+      result.info = environment.moveOutsideEpisode(
+          agent.act(rigObservationOf(environment.observation(), result.info)));
       rollout.poses.push_back(result.info.pose);
       continue;
     }

@@ -173,12 +173,7 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       }
       views[scene].push_back(view);
       if (t == options.max_steps) break;
-      const Action action = agent->act(rigObservationOf(observation, info));
-      const Action move = cameraMoveFor(action, options.step_size_rad, options.normalize_action);
-      info = environment.viewFrom(
-          environment.camera().moved(info.pose, move.d_azimuth_rad, move.d_elevation_rad));
-      info.step_index = t + 1;
-      info.last_action = action;
+      info = environment.moveOutsideEpisode(agent->act(rigObservationOf(observation, info)));
     }
     std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
   }

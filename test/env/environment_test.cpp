@@ -151,6 +151,30 @@ TEST(EnvironmentTest, ViewFromRendersAPoseOutsideTheEpisodesSteps) {
                    placed.options().elevation_limit_rad);
 }
 
+TEST(EnvironmentTest, MoveOutsideEpisodeMovesAsAStepWithoutTheRule) {
+  Environment stepped(smallOptions());
+  stepped.reset(5);
+  stepped.step({1.0, 0.5});
+  const StepResult second = stepped.step({-0.3, 1.0});
+  const Observation expected = copyOf(*second.observation);
+
+  Environment moved(smallOptions());
+  EXPECT_THROW(moved.moveOutsideEpisode({1.0, 0.5}), InvalidStateError);
+  moved.reset(5);
+  moved.moveOutsideEpisode({1.0, 0.5});
+  const StepInfo& info = moved.moveOutsideEpisode({-0.3, 1.0});
+  EXPECT_EQ(info.step_index, 2);  // its moves counted
+  EXPECT_EQ(info.last_action.d_azimuth_rad, -0.3);
+  EXPECT_EQ(info.last_action.d_elevation_rad, 1.0);
+  EXPECT_EQ(info.pose.azimuth_rad, second.info.pose.azimuth_rad);
+  EXPECT_EQ(info.pose.elevation_rad, second.info.pose.elevation_rad);
+  EXPECT_EQ(info.occlusion.total_pixels, second.info.occlusion.total_pixels);
+  EXPECT_TRUE(identical(expected, moved.observation()));
+  EXPECT_THROW(moved.moveOutsideEpisode({NAN, 0.0}), InvalidArgumentError);
+  // The episode's rule never saw those moves: the next step is its first.
+  EXPECT_EQ(moved.step({0.0, 1.0}).info.step_index, 1);
+}
+
 TEST(EnvironmentTest, RewardAndFlagsFollowTheOcclusion) {
   EnvironmentOptions options = smallOptions();
   options.max_steps = 4;

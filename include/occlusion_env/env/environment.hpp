@@ -99,6 +99,13 @@ class Environment : public EnvironmentInterface, public RenderedView {
   /// InvalidArgumentError for a non-finite pose, leaving the view as it was.
   const StepInfo& viewFrom(const SphericalPose& pose);
 
+  /// Moves the camera by `action` as step() would and renders the view there (viewFrom), outside
+  /// the episode: no reward or end, the rule's step count unchanged. Counts the move in
+  /// info().step_index and records it as info().last_action. How a camera moves on after its
+  /// episode has ended (occlusion_bridge_calibration, occlusion_dagger --moves-past-clear).
+  /// Throws as step() and viewFrom() do.
+  const StepInfo& moveOutsideEpisode(const Action& action);
+
   /// The gradient of the current view by options().gradient_method, with options().gradient.
   bool hasOcclusionGradient() const override { return true; }
   GradientResult occlusionGradient() override;
