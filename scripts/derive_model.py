@@ -30,9 +30,9 @@ def main(argv):
     if not (os.path.isfile(source) and os.path.isfile(source_json)):
         sys.exit(f"derive_model: {source} or its manifest {source_json} is missing")
     manifest = json.load(open(source_json))
-    # Fields that older manifests lack (their defaults: far, kept, metres).
+    # Fields that older manifests lack (their defaults: far, kept, metres, 1).
     unknown = [f for f in changes if f not in manifest["network"]
-               and f not in ("depth_gaps", "bounding_surfaces", "depth_reference")]
+               and f not in ("depth_gaps", "bounding_surfaces", "depth_reference", "view_crop")]
     if unknown:
         sys.exit(f"derive_model: no network field {', '.join(unknown)} in {source_json}")
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

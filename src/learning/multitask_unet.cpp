@@ -60,6 +60,11 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                           "(x 4 m / r), so that a scene scaled with its sphere looks as at 4 m "
                           "(network_input.hpp)")
                    .choices({"metres", "radius"}))
+          .add("view_crop", &NetworkConfig::view_crop,
+               OptionSpec("the centred fraction of the view's width and height the network sees "
+                          "at its input size (1: the whole view; 0.5: the middle, where the "
+                          "objects are, at twice the resolution; network_input.hpp)")
+                   .range(0.1, 1.0))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -81,8 +86,10 @@ void NetworkConfig::validate() const {
 }
 
 InputFormat NetworkConfig::inputFormat() const {
-  return {input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar,
-          bounding_surfaces == "cleared", depth_reference == "radius"};
+  InputFormat format{input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar,
+                     bounding_surfaces == "cleared", depth_reference == "radius"};
+  format.view_crop = view_crop;
+  return format;
 }
 
 nlohmann::json NetworkConfig::toJson() const {
@@ -92,14 +99,15 @@ nlohmann::json NetworkConfig::toJson() const {
   if (escape_bins == 0) json.erase("escape_bins");
   if (bounding_surfaces == "kept") json.erase("bounding_surfaces");
   if (depth_reference == "metres") json.erase("depth_reference");
+  if (view_crop == 1.0) json.erase("view_crop");
   return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    // "far", 0, "kept" and "metres" when absent: recorded before they existed.
+    // "far", 0, "kept", "metres" and 1 when absent: recorded before they existed.
     if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces" ||
-        key == "depth_reference") {
+        key == "depth_reference" || key == "view_crop") {
       continue;
     }
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));

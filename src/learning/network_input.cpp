@@ -1,5 +1,6 @@
 #include "occlusion_env/learning/network_input.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -160,6 +161,25 @@ InputFormat InputFormat::atRadius(double camera_radius_m) const {
   return format;
 }
 
+cv::Rect viewCropRect(const cv::Size& image_size, double view_crop) {
+  if (!(view_crop > 0.0 && view_crop <= 1.0)) {
+    throw InvalidArgumentError("network input: view_crop must lie in (0, 1]");
+  }
+  if (view_crop == 1.0) return cv::Rect(cv::Point(0, 0), image_size);
+  const int width = std::max(1, static_cast<int>(std::lround(view_crop * image_size.width)));
+  const int height = std::max(1, static_cast<int>(std::lround(view_crop * image_size.height)));
+  return cv::Rect((image_size.width - width) / 2, (image_size.height - height) / 2, width, height);
+}
+
+CameraIntrinsics croppedIntrinsics(const CameraIntrinsics& intrinsics, const cv::Rect& crop) {
+  CameraIntrinsics cropped = intrinsics;
+  cropped.width = crop.width;
+  cropped.height = crop.height;
+  cropped.cx -= crop.x;
+  cropped.cy -= crop.y;
+  return cropped;
+}
+
 BoundingSurfaceOptions clearedInputSurfaceOptions() {
   BoundingSurfaceOptions options;
   options.tolerance_per_m2 = 0.001;
@@ -190,6 +210,11 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputForm
         "cleared), which needs the camera's intrinsics; frames without them (the datasets') "
         "cannot be its input");
   }
+  if (format.view_crop != 1.0 && !rgb.empty() && rgb.size() == depth.size()) {
+    const cv::Rect crop = viewCropRect(rgb.size(), format.view_crop);
+    writeImages(rgb(crop), depth(crop), format, scratch, out);
+    return;
+  }
   writeImages(rgb, depth, format, scratch, out);
 }
 
@@ -199,6 +224,15 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
     throw InvalidArgumentError(
         "network input: this model clears the view's floors and walls (bounding_surfaces: "
         "cleared) and needs the camera's intrinsics; none were given");
+  }
+  if (format.view_crop != 1.0 && !rgb.empty() && rgb.size() == depth.size()) {
+    // The crop, as if a camera saw only it (no pixel copied).
+    const cv::Rect crop = viewCropRect(rgb.size(), format.view_crop);
+    InputFormat whole = format;
+    whole.view_crop = 1.0;
+    writeNetworkInput(rgb(crop), depth(crop), croppedIntrinsics(intrinsics, crop), whole, scratch,
+                      out);
+    return;
   }
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;

@@ -84,6 +84,7 @@ std::int64_t OcclusionEstimator::occludedPixelsAt(double probability) {
   const cv::Mat logits(size, size, CV_32FC1, last_logits_.data_ptr<float>());
   cv::compare(logits, logit_threshold, other_small_mask_, cv::CMP_GT);
   if (surfaces_) clearFoundSurfaces(other_small_mask_);
+  // At the size of the part of the image the network saw: the rest is never occluded.
   cv::resize(other_small_mask_, other_mask_, last_image_size_, 0.0, 0.0, cv::INTER_NEAREST);
   return cv::countNonZero(other_mask_);
 }
@@ -107,10 +108,19 @@ OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat
   }
   estimate.mean_probability = probability_sum / (static_cast<double>(size) * size);
   last_logits_ = logits;  // for occludedPixelsAt()
-  last_image_size_ = rgb.size();
-  if (surfaces_) estimate.cleared_pixels = clearBoundingSurfaces(depth, intrinsics, rgb.size());
+  // The part of the image the network saw (all of it but for a model with a view_crop); nothing
+  // outside it is estimated occluded.
+  const cv::Rect seen = viewCropRect(rgb.size(), format_.view_crop);
+  last_image_size_ = seen.size();
+  if (surfaces_) {
+    estimate.cleared_pixels =
+        clearBoundingSurfaces(depth(seen), croppedIntrinsics(intrinsics, seen), seen.size());
+  }
+  mask.create(rgb.size(), CV_8UC1);
+  if (seen.size() != rgb.size()) mask.setTo(0);
   // Nearest neighbour: every image pixel takes its network pixel's verdict.
-  cv::resize(small_mask_, mask, rgb.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  cv::Mat seen_mask = mask(seen);
+  cv::resize(small_mask_, seen_mask, seen.size(), 0.0, 0.0, cv::INTER_NEAREST);
   estimate.occluded_pixels = cv::countNonZero(mask);
   return estimate;
 }

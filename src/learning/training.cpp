@@ -72,7 +72,8 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), frame.intrinsics,
                       format.atRadius(frameRadius(frame)), scratch, input.data_ptr<float>());
     samples.inputs[i].copy_(input);
-    const cv::Mat mask = data.readOcclusionMask(frame);
+    const cv::Mat whole_mask = data.readOcclusionMask(frame);
+    const cv::Mat mask = whole_mask(viewCropRect(whole_mask.size(), format.view_crop));
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
     // Occluded (1) where at least mask_coverage of the pixel's area is, written into the
     // sample's bytes.
@@ -528,6 +529,7 @@ nlohmann::json initialModelManifest(const TrainingOptions& options) {
     json.erase("depth_gaps");
     json.erase("bounding_surfaces");
     json.erase("depth_reference");
+    json.erase("view_crop");
     json.erase("input_size");
     json.erase("escape_bins");
     return json;

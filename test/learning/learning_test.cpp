@@ -670,6 +670,27 @@ TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {
   }
   EXPECT_EQ(row, data.train.size());
   EXPECT_GT(data.train.masks.sum().item<int64_t>(), 0) << "some occlusion in the tiny scenes";
+
+  // With a view crop, input and labels are both the frame's centre.
+  InputFormat cropped(32);
+  cropped.view_crop = 0.5;
+  const TrainingData centres = loadTrainingData(data_dir.string(), cropped);
+  row = 0;
+  for (const dataset::Frame& frame : bop.frames()) {
+    if (frame.validation) continue;
+    writeNetworkInput(bop.readRgb(frame), bop.readDepthMeters(frame), cropped, scratch,
+                      expected.data_ptr<float>());
+    const torch::Tensor held = centres.train.inputs[row].to(torch::kFloat);
+    EXPECT_LE((held - expected).abs().max().item<float>(), 2e-3f) << "cropped frame " << row;
+    const cv::Mat whole = bop.readOcclusionMask(frame);
+    cv::Mat area;
+    cv::resize(whole(viewCropRect(whole.size(), 0.5)), area, cv::Size(32, 32), 0, 0,
+               cv::INTER_AREA);
+    const cv::Mat occluded = (area >= 128) / 255;
+    const torch::Tensor mask = torch::from_blob(occluded.data, {1, 32, 32}, torch::kUInt8);
+    EXPECT_TRUE(torch::equal(centres.train.masks[row], mask)) << "cropped frame " << row;
+    ++row;
+  }
   fs::remove_all(data_dir);
 }
 
@@ -759,6 +780,63 @@ TEST(LearningTest, DepthRelativeToTheRadiusMakesAScaledSceneTheSameInput) {
   EXPECT_EQ(config.toJson().at("depth_reference"), "radius");
   EXPECT_TRUE(NetworkConfig::fromJson(config.toJson()).inputFormat().depth_per_radius);
   config.depth_reference = "feet";
+  EXPECT_THROW(config.validate(), InvalidArgumentError);
+}
+
+// view_crop: the network sees the view's centred part at its size, as a camera with the
+// cropped intrinsics would see it alone; models without one record none.
+TEST(LearningTest, AViewCropIsTheInputOfTheCentralPartAlone) {
+  EXPECT_EQ(viewCropRect(cv::Size(256, 256), 0.5), cv::Rect(64, 64, 128, 128));
+  EXPECT_EQ(viewCropRect(cv::Size(640, 480), 0.5), cv::Rect(160, 120, 320, 240));
+  EXPECT_EQ(viewCropRect(cv::Size(100, 60), 1.0), cv::Rect(0, 0, 100, 60));
+  EXPECT_THROW(viewCropRect(cv::Size(100, 60), 0.0), InvalidArgumentError);
+  EXPECT_THROW(viewCropRect(cv::Size(100, 60), 1.5), InvalidArgumentError);
+
+  // A floor, a wall and two boxes, one in front of the other, off the centre.
+  cv::Mat rgb(128, 128, CV_8UC3, cv::Scalar(60, 70, 80));
+  cv::Mat depth(128, 128, CV_32FC1, cv::Scalar(3.0f));
+  depth.rowRange(80, 128).setTo(2.0f);
+  depth(cv::Rect(40, 40, 30, 30)).setTo(1.5f);
+  rgb(cv::Rect(40, 40, 30, 30)).setTo(cv::Scalar(200, 30, 30));
+  depth(cv::Rect(55, 50, 30, 20)).setTo(1.2f);
+  rgb(cv::Rect(55, 50, 30, 20)).setTo(cv::Scalar(30, 200, 30));
+  depth.at<float>(60, 60) = std::nanf("");
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 3.0);
+  const cv::Rect crop = viewCropRect(rgb.size(), 0.5);
+  const cv::Mat rgb_crop = rgb(crop).clone(), depth_crop = depth(crop).clone();
+  for (const DepthGaps gaps : {DepthGaps::kFar, DepthGaps::kFilled}) {
+    for (const bool clear_surfaces : {false, true}) {
+      InputFormat whole(32, gaps, clear_surfaces);
+      InputFormat cropped = whole;
+      cropped.view_crop = 0.5;
+      InputScratch scratch;
+      std::vector<float> of_crop(4 * 32 * 32), alone(4 * 32 * 32), uncropped(4 * 32 * 32);
+      writeNetworkInput(rgb, depth, intrinsics, cropped, scratch, of_crop.data());
+      writeNetworkInput(rgb_crop, depth_crop, croppedIntrinsics(intrinsics, crop), whole, scratch,
+                        alone.data());
+      EXPECT_EQ(of_crop, alone) << "gaps " << static_cast<int>(gaps) << ", cleared "
+                                << clear_surfaces;
+      writeNetworkInput(rgb, depth, intrinsics, whole, scratch, uncropped.data());
+      EXPECT_NE(of_crop, uncropped) << "the crop is not the whole view";
+      if (!clear_surfaces) {
+        writeNetworkInput(rgb, depth, cropped, scratch, of_crop.data());
+        writeNetworkInput(rgb_crop, depth_crop, whole, scratch, alone.data());
+        EXPECT_EQ(of_crop, alone) << "without intrinsics";
+      }
+    }
+  }
+  const CameraIntrinsics moved = croppedIntrinsics(intrinsics, crop);
+  EXPECT_EQ(moved.width, 64);
+  EXPECT_DOUBLE_EQ(moved.cx, intrinsics.cx - 32.0);
+  EXPECT_DOUBLE_EQ(moved.fx, intrinsics.fx);
+
+  NetworkConfig config;
+  EXPECT_FALSE(config.toJson().contains("view_crop"));
+  EXPECT_DOUBLE_EQ(config.inputFormat().view_crop, 1.0);
+  config.view_crop = 0.5;
+  EXPECT_DOUBLE_EQ(config.toJson().at("view_crop").get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(NetworkConfig::fromJson(config.toJson()).inputFormat().view_crop, 0.5);
+  config.view_crop = 0.05;
   EXPECT_THROW(config.validate(), InvalidArgumentError);
 }
 
@@ -1154,6 +1232,25 @@ TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
   OcclusionEstimator estimator(model);
   const OcclusionEstimate some = estimator.estimate(rgb, depth, intrinsics, mask);
   EXPECT_EQ(some.occluded_pixels, cv::countNonZero(mask));
+
+  // A model with a view crop estimates the centre of the image only, at the image's size.
+  config.view_crop = 0.5;
+  auto cropping = constantOcclusionModel(1.0f);
+  cropping->network = MultiTaskUNet(config);
+  cropping->network->eval();
+  {
+    torch::NoGradGuard no_grad;
+    for (auto& parameter : cropping->network->named_parameters()) {
+      if (parameter.key() == "occlusion_head.weight") parameter.value().zero_();
+      if (parameter.key() == "occlusion_head.bias") parameter.value().fill_(1.0f);
+    }
+  }
+  OcclusionEstimator centre(cropping, 0.5);
+  EXPECT_EQ(centre.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 24 * 40);
+  EXPECT_EQ(mask.size(), rgb.size());
+  EXPECT_EQ(cv::countNonZero(mask(cv::Rect(20, 12, 40, 24))), 24 * 40) << "the crop, all of it";
+  EXPECT_EQ(centre.occludedPixelsAt(0.6), 24 * 40);
+  EXPECT_EQ(centre.occludedPixelsAt(0.9), 0);
 
   EXPECT_THROW(OcclusionEstimator(nullptr), InvalidArgumentError);
   EXPECT_THROW(OcclusionEstimator(model, 1.0), InvalidArgumentError);

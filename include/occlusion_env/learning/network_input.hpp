@@ -25,6 +25,12 @@
 //   radius: times kWorkingRadiusM / r, r the camera's distance from the sphere's centre, so that
 //           a scene scaled with its sphere (small objects seen from 1 m) enters as the same
 //           scene at 4 m would; the void's far stays far. Needs r (InputFormat::atRadius).
+// Crop (a model's view_crop):
+//   1:       the whole view;
+//   c < 1:   the centred c x c of the view's width and height only (viewCropRect), the
+//            intrinsics moved with it, at the network's size: a finer look at the middle of the
+//            view, where the objects at the sphere's centre are (99.7 % of the occluded pixels of
+//            the bridge's roll-outs lie in the central half). The labels are cropped alike.
 #pragma once
 
 #include <memory>
@@ -56,6 +62,7 @@ struct InputFormat {
   bool clear_bounding_surfaces;  // the view's floors and walls enter as the void
   bool depth_per_radius;         // depth enters relative to the camera's radius (radius_m)
   double radius_m = 0.0;         // [m] the camera's distance from the sphere's centre; 0: unknown
+  double view_crop = 1.0;        // the centred fraction of the view's width and height it sees
 
   /// This format for a view from `camera_radius_m` [m] (used only when depth_per_radius).
   InputFormat atRadius(double camera_radius_m) const;
@@ -69,6 +76,13 @@ struct InputFormat {
 inline double cameraRadius(const Eigen::Isometry3d& sphere_from_optical) {
   return sphere_from_optical.translation().norm();
 }
+
+/// The centred part of an image of `image_size` a network with `view_crop` sees: `view_crop`
+/// of its width and height (at least 1 px each), the whole image at 1.
+cv::Rect viewCropRect(const cv::Size& image_size, double view_crop);
+
+/// `intrinsics` of a whole image, for its part `crop`.
+CameraIntrinsics croppedIntrinsics(const CameraIntrinsics& intrinsics, const cv::Rect& crop);
 
 /// The resized images between calls (no allocation once sized).
 struct InputScratch {
@@ -98,7 +112,8 @@ void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size
                               BoundingSurfaceFinder& finder, InputScratch& scratch);
 
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
-/// `format` into `out` (4 * size * size floats, channel-major). Throws InvalidArgumentError on
+/// `format` into `out` (4 * size * size floats, channel-major), of the view's crop
+/// (viewCropRect) when the format has one. Throws InvalidArgumentError on
 /// wrong types or sizes, and for a format that clears bounding surfaces (it needs intrinsics).
 void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
                        InputScratch& scratch, float* out);

@@ -38,8 +38,8 @@ class OcclusionEstimator {
 
   /// Runs the network on `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing), seen with
   /// `intrinsics` (of their size), and writes `mask` (CV_8UC1 at rgb's size, 255 where
-  /// occlusion is predicted, else 0; reused). No allocation once the buffers are sized, but for
-  /// libtorch's own.
+  /// occlusion is predicted, else 0, also outside the crop of a model with a view_crop; reused). No
+  /// allocation once the buffers are sized, but for libtorch's own.
   OcclusionEstimate estimate(const cv::Mat& rgb, const cv::Mat& depth,
                              const CameraIntrinsics& intrinsics, cv::Mat& mask);
 
@@ -70,8 +70,8 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
-  // The last estimate's logits ([1, 1, S, S], kept, not copied) and image size, for
-  // occludedPixelsAt().
+  // The last estimate's logits ([1, 1, S, S], kept, not copied) and the size of the part of the
+  // image they cover, for occludedPixelsAt().
   torch::Tensor last_logits_;
   cv::Size last_image_size_;
   cv::Mat other_small_mask_, other_mask_;  // occludedPixelsAt()'s, reused
