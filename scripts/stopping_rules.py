@@ -6,6 +6,11 @@ start view never counts) whose estimate at probability p is at most t px; a rule
 stops at whichever comes first: e.g. (0.01, 0, 1) + (0.2, 0, 5) stops at once on a view with no
 pixel above 0.01, and otherwise after five views clear at 0.2. The bridge's own rule is one level.
 
+With --also, the views of a second estimate on the same paths (occlusion_bridge_calibration run
+with the same agent, scenes and world, another --model): rules of one level that count a view
+clear only when both estimates are, each at its own probability and threshold, are tried too
+(written (p, t) & (q, u) px, k views).
+
 Rules are chosen on CHOOSE (the fewest mean steps among those stopping on a truly clear view in at
 least --need of its scenes) and shown on CHECK, other validation scenes, beside the one-level
 rule given with --baseline. Episodes that never stop count at --max-steps.
@@ -15,7 +20,8 @@ view occluded, by how many views the path had already been truly clear before it
 clear view after an occluded one): what the confirming views pay for.
 
 Usage: stopping_rules.py CHOOSE.csv [CHECK.csv] [--need 0.95] [--baseline 0.2,0,5] [--top 10]
-Exits 1 on unreadable input."""
+                         [--also CHOOSE2.csv[,CHECK2.csv]]
+Exits 1 on unreadable input or a second estimate's views of other paths."""
 import argparse
 import csv
 import itertools
@@ -45,12 +51,35 @@ def load(path):
     return paths, probabilities
 
 
+SECOND = "also:"  # the key prefix of a second estimate's probabilities
+
+
+def joined(paths, second, name):
+    """paths with the estimates of `second` (the same paths' views) added under SECOND + p."""
+    if sorted(paths) != sorted(second) or any(
+            [true_px for true_px, _ in paths[seed]] != [true_px for true_px, _ in second[seed]]
+            for seed in paths):
+        sys.exit(f"stopping_rules.py: {name}: not the views of the same paths (seeds, steps and "
+                 "true occlusion must match)")
+    return OrderedDict(
+        (seed, [(true_px, dict(estimates, **{SECOND + p: px for p, px in other.items()}))
+                for (true_px, estimates), (_, other) in zip(views, second[seed])])
+        for seed, views in paths.items())
+
+
+def is_clear(estimates, probability, threshold):
+    """A level's condition: one estimate (probability, threshold) or both ((p, t), (q, u))."""
+    if isinstance(probability, tuple):
+        return all(estimates[p] <= t for p, t in zip(probability, threshold))
+    return estimates[probability] <= threshold
+
+
 def stop_step(path, levels):
     """The step where the rule stops, or None."""
     in_a_row = [0] * len(levels)
     for step in range(1, len(path)):
         for i, (probability, threshold, views) in enumerate(levels):
-            clear = path[step][1][probability] <= threshold
+            clear = is_clear(path[step][1], probability, threshold)
             in_a_row[i] = in_a_row[i] + 1 if clear else 0
             if in_a_row[i] >= views:
                 return step
@@ -92,7 +121,11 @@ def false_alarms_by_clear_run(paths, probability, threshold, deepest=5):
 
 
 def describe(levels):
-    return " + ".join(f"({p}, {t}, {k})" for p, t, k in levels)
+    def level(p, t, k):
+        if isinstance(p, tuple):
+            return f"({p[0]}, {t[0]}) & ({p[1][len(SECOND):]}, {t[1]}) px, {k} views"
+        return f"({p}, {t}, {k})"
+    return " + ".join(level(*entry) for entry in levels)
 
 
 def show(counts):
@@ -111,12 +144,25 @@ def main():
     parser.add_argument("--views", default="1,2,3,4,5,6", help="candidate views in a row k")
     parser.add_argument("--max-steps", type=int, default=50)
     parser.add_argument("--top", type=int, default=10)
+    parser.add_argument("--also", help="CHOOSE2.csv[,CHECK2.csv]: a second estimate's views of "
+                        "the same paths; rules where both must call a view clear are tried too")
     args = parser.parse_args()
     choose, probabilities = load(args.choose)
     check = None
     if args.check:
         check, check_probabilities = load(args.check)
         probabilities = [p for p in probabilities if p in check_probabilities]
+    second_probabilities = []
+    if args.also:
+        second_files = args.also.split(",")
+        if len(second_files) != (2 if check else 1):
+            sys.exit("stopping_rules.py: --also needs one views CSV per input (CHOOSE2[,CHECK2])")
+        second, second_probabilities = load(second_files[0])
+        choose = joined(choose, second, second_files[0])
+        if check:
+            second_check, check_probabilities = load(second_files[1])
+            second_probabilities = [p for p in second_probabilities if p in check_probabilities]
+            check = joined(check, second_check, second_files[1])
     thresholds = [int(t) for t in args.thresholds.split(",")]
     views = [int(k) for k in args.views.split(",")]
     p, t, k = args.baseline.split(",")
@@ -126,7 +172,14 @@ def main():
 
     levels = [(p, t, k) for p in probabilities for t in thresholds for k in views]
     rules = [[level] for level in levels]
-    rules += [list(pair) for pair in itertools.combinations(levels, 2) if pair[0][2] != pair[1][2]]
+    if second_probabilities:
+        # Both estimates clear, each at its own probability and threshold.
+        rules += [[((p, SECOND + q), (t, u), k)]
+                  for p in probabilities for q in second_probabilities
+                  for t in thresholds for u in thresholds for k in views]
+    else:
+        rules += [list(pair) for pair in itertools.combinations(levels, 2)
+                  if pair[0][2] != pair[1][2]]
     chosen = []
     for rule in rules:
         counts = score(choose, rule, args.max_steps)

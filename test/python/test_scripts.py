@@ -262,6 +262,27 @@ def test_stopping_rules_count_false_alarms_by_views_clear_before(tmp_path):
     assert rows[">= 5"] == "0 of 0"
 
 
+def test_stopping_rules_with_a_second_estimate_stop_where_both_call_views_clear(tmp_path):
+    # The first estimate calls step 1 clear at 0.2 while it holds 3 px; the second (the same
+    # path's views) still sees 7 px there and calls step 2 clear.
+    first, second = tmp_path / "first.csv", tmp_path / "second.csv"
+    write_views(first, {1: [(9, 9, 9), (3, 5, 0), (0, 5, 0), (0, 5, 0)]})
+    write_views(second, {1: [(9, 9, 9), (3, 9, 7), (0, 9, 0), (0, 9, 0)]})
+    command = [sys.executable, STOPPING_RULES, first, "--baseline", "0.2,0,1", "--need", "1.0",
+               "--views", "1", "--thresholds", "0", "--max-steps", "4", "--top", "50"]
+    result = subprocess.run(command + ["--also", second], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rows = {line.split("|")[1].strip(): line.split("|")[2].strip()
+            for line in result.stdout.splitlines() if line.startswith("| (")}
+    assert rows["(0.2, 0, 1)"] == "0 / 1 / 0, 1.00"  # the baseline, alone: too early
+    assert rows["(0.2, 0) & (0.2, 0) px, 1 views"] == "1 / 0 / 0, 2.00"
+    assert "(0.01, 0) & (0.2, 0) px, 1 views" not in rows  # never stops: not all clear
+    # Views of another path are refused, not paired.
+    write_views(second, {1: [(9, 9, 9), (0, 9, 7), (0, 9, 0), (0, 9, 0)]})
+    result = subprocess.run(command + ["--also", second], capture_output=True, text=True)
+    assert result.returncode == 1 and "not the views of the same paths" in result.stderr
+
+
 def test_stopping_rules_refuses_a_file_without_estimates(tmp_path):
     bad = tmp_path / "bad.csv"
     bad.write_text("seed,step,true_px\n1,0,5\n")
