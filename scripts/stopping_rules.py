@@ -13,14 +13,16 @@ clear only when both estimates are, each at its own probability and threshold, a
 
 Rules are chosen on CHOOSE (the fewest mean steps among those stopping on a truly clear view in at
 least --need of its scenes) and shown on CHECK, other validation scenes, beside the one-level
-rule given with --baseline. Episodes that never stop count at --max-steps.
+rule given with --baseline. Episodes that never stop count at --max-steps. With --one-level only
+the rules the bridge can run are tried (one level, one estimate). CHOOSE may hold the views of
+several calibration runs of other seeds one after the other (one header line).
 
 Then, at the baseline's probability and threshold, how often the estimate calls a truly clear
 view occluded, by how many views the path had already been truly clear before it (0: the first
 clear view after an occluded one): what the confirming views pay for.
 
 Usage: stopping_rules.py CHOOSE.csv [CHECK.csv] [--need 0.95] [--baseline 0.2,0,5] [--top 10]
-                         [--also CHOOSE2.csv[,CHECK2.csv]]
+                         [--also CHOOSE2.csv[,CHECK2.csv] | --one-level]
 Exits 1 on unreadable input or a second estimate's views of other paths."""
 import argparse
 import csv
@@ -146,7 +148,11 @@ def main():
     parser.add_argument("--top", type=int, default=10)
     parser.add_argument("--also", help="CHOOSE2.csv[,CHECK2.csv]: a second estimate's views of "
                         "the same paths; rules where both must call a view clear are tried too")
+    parser.add_argument("--one-level", action="store_true",
+                        help="try only one-level rules of one estimate, the bridge's own kind")
     args = parser.parse_args()
+    if args.one_level and args.also:
+        sys.exit("stopping_rules.py: --one-level tries one estimate's rules; --also adds another's")
     choose, probabilities = load(args.choose)
     check = None
     if args.check:
@@ -177,7 +183,7 @@ def main():
         rules += [[((p, SECOND + q), (t, u), k)]
                   for p in probabilities for q in second_probabilities
                   for t in thresholds for u in thresholds for k in views]
-    else:
+    elif not args.one_level:
         rules += [list(pair) for pair in itertools.combinations(levels, 2)
                   if pair[0][2] != pair[1][2]]
     chosen = []

@@ -218,14 +218,17 @@ def write_views(path, episodes):
     path.write_text("\n".join(lines) + "\n")
 
 
+# Scene 1: clear at 0.2 from step 1 on, truly clear from step 2 on; nothing ever below 0.01
+# except step 3. Scene 2: never clear at 0.2, truly clear at step 2, sure (0 at 0.01) at 2.
+TWO_SCENES = {
+    1: [(9, 9, 9), (3, 5, 0), (0, 5, 0), (0, 0, 0), (0, 5, 0)],
+    2: [(9, 9, 9), (4, 5, 5), (0, 0, 5), (0, 5, 5), (0, 5, 5)],
+}
+
+
 def test_stopping_rules_stop_at_the_first_level_that_confirms(tmp_path):
-    # Scene 1: clear at 0.2 from step 1 on, truly clear from step 2 on; nothing ever below 0.01
-    # except step 3. Scene 2: never clear at 0.2, truly clear at step 2, sure (0 at 0.01) at 2.
     views = tmp_path / "views.csv"
-    write_views(views, {
-        1: [(9, 9, 9), (3, 5, 0), (0, 5, 0), (0, 0, 0), (0, 5, 0)],
-        2: [(9, 9, 9), (4, 5, 5), (0, 0, 5), (0, 5, 5), (0, 5, 5)],
-    })
+    write_views(views, TWO_SCENES)
     result = subprocess.run([sys.executable, STOPPING_RULES, views, "--baseline", "0.2,0,2",
                              "--need", "1.0", "--views", "1,2", "--thresholds", "0",
                              "--max-steps", "4", "--top", "50"],
@@ -242,6 +245,24 @@ def test_stopping_rules_stop_at_the_first_level_that_confirms(tmp_path):
     # (0.2, 0, 1) stops scene 1 at step 1, too early, so it is not among the rules shown.
     assert "(0.2, 0, 1)" not in rows
     assert "first truly clear view after 2.00 steps" in result.stdout
+
+
+def test_stopping_rules_one_level_tries_only_the_bridges_rules(tmp_path):
+    # TWO_SCENES: the two-level rule that stops both scenes at step 2 is left
+    # out; the one-level rules that stop both on a clear view remain.
+    views = tmp_path / "views.csv"
+    write_views(views, TWO_SCENES)
+    result = subprocess.run([sys.executable, STOPPING_RULES, views, "--baseline", "0.2,0,2",
+                             "--need", "1.0", "--views", "1,2", "--thresholds", "0",
+                             "--max-steps", "4", "--top", "50", "--one-level"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    rows = [line.split("|")[1].strip() for line in result.stdout.splitlines()
+            if line.startswith("| (")]
+    assert rows == ["(0.2, 0, 2)", "(0.01, 0, 1)"]  # the baseline, then the only one chosen
+    both = subprocess.run([sys.executable, STOPPING_RULES, views, "--one-level", "--also", views],
+                          capture_output=True, text=True)
+    assert both.returncode != 0 and "--one-level" in both.stderr
 
 
 def test_stopping_rules_count_false_alarms_by_views_clear_before(tmp_path):
