@@ -9,6 +9,7 @@
 //   .build_ws/devel/lib/occlusion_env/model_known_answer_checks        the camera bridge's model
 //   MODEL=runs/x/best.pt .build_ws/devel/lib/occlusion_env/model_known_answer_checks
 //   ESTIMATE=bridge .build_ws/devel/lib/occlusion_env/model_known_answer_checks
+//   PROBABILITY=0.1 ...   a pixel is occluded above this probability, not the bridge's default
 //
 // Not part of `make test` as a whole: no network passes all of them yet (doc/TRAINING.md,
 // "Known-answer checks"); the bridge's estimate of a wall and a floor is (CMakeLists.txt).
@@ -54,6 +55,9 @@ std::int64_t estimatedPixels(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat* 
     CameraEnvironmentOptions defaults;  // the bridge's (camera_bridge_options_test)
     EXPECT_EQ(defaults.occlusion_probability, kBridgeOcclusionProbability);
     defaults.clear_bounding_surfaces = bridgeEstimate();
+    if (const char* probability = std::getenv("PROBABILITY")) {
+      defaults.occlusion_probability = std::atof(probability);
+    }
     std::cout << "[checks] estimate: "
               << (bridgeEstimate() ? "the bridge's (bounding surfaces cleared)" : "the network's")
               << "\n";
