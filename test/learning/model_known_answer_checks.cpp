@@ -11,6 +11,8 @@
 //   ESTIMATE=bridge .build_ws/devel/lib/occlusion_env/model_known_answer_checks
 //   PROBABILITY=0.1 ...   a pixel is occluded above this probability, not the bridge's default
 //
+// Frames of 128 px, or of the model's input size over its view_crop when that is more.
+//
 // Not part of `make test` as a whole: no network passes all of them yet (doc/TRAINING.md,
 // "Known-answer checks"); the bridge's estimate of a wall and a floor is (CMakeLists.txt).
 #include <gtest/gtest.h>
@@ -31,9 +33,8 @@ namespace occlusion_env {
 namespace learning {
 namespace {
 
-constexpr double kBridgeOcclusionProbability = 0.01;        // config/camera_bridge.yaml's default
-constexpr int kSize = 128;                                  // [px], the training frames' size
-constexpr double kFocalPx = kSize / (2.0 * 0.57735026919);  // 60 deg horizontal field of view
+constexpr double kBridgeOcclusionProbability = 0.01;  // config/camera_bridge.yaml's default
+constexpr int kCheckSize = 128;  // [px], the frames' size the checks' lengths and areas are for
 
 std::shared_ptr<LoadedModel> shippedModel() {
   static const auto model = [] {
@@ -43,6 +44,32 @@ std::shared_ptr<LoadedModel> shippedModel() {
     return std::make_shared<LoadedModel>(loadModel(chosen));
   }();
   return model;
+}
+
+/// The frames' size [px]: 128, or more for a model that sees the centre of the view (view_crop),
+/// so that its crop is at least its input's size, as from a camera (an enlarged patch is not
+/// what a camera gives). The checks' lengths scale with it, their areas with its square.
+int frameSize() {
+  static const int size = [] {
+    const auto& config = shippedModel()->network->config();
+    const int seen = static_cast<int>(std::lround(config.input_size / config.view_crop));
+    std::cout << "[checks] frames of " << std::max(kCheckSize, seen) << " px\n";
+    return std::max(kCheckSize, seen);
+  }();
+  return size;
+}
+double frameScale() {
+  return static_cast<double>(frameSize()) / kCheckSize;
+}
+int scaledPx(double length_px) {
+  return static_cast<int>(std::lround(length_px * frameScale()));
+}
+double scaledArea(double area_px) {
+  return area_px * frameScale() * frameScale();
+}
+// [px], for a 60 deg horizontal field of view.
+double focalPx() {
+  return frameSize() / (2.0 * 0.57735026919);
 }
 
 bool bridgeEstimate() {
@@ -84,11 +111,11 @@ void addNoise(cv::Mat& rgb, int seed) {
 TEST(ShippedModelTest, AFlatWallIsNotOcclusion) {
   for (const double distance_m : {1.0, 2.0, 4.0}) {
     for (const int grey : {90, 128, 200}) {
-      cv::Mat rgb(kSize, kSize, CV_8UC3, cv::Scalar(grey, grey, grey - 10));
+      cv::Mat rgb(frameSize(), frameSize(), CV_8UC3, cv::Scalar(grey, grey, grey - 10));
       addNoise(rgb, grey);
       // A wall facing the camera: depth is the distance along the optical axis, the same
       // everywhere.
-      const cv::Mat depth(kSize, kSize, CV_32FC1, cv::Scalar(distance_m));
+      const cv::Mat depth(frameSize(), frameSize(), CV_32FC1, cv::Scalar(distance_m));
       EXPECT_EQ(estimatedPixels(rgb, depth), 0)
           << "a grey (" << grey << ") wall " << distance_m << " m away";
     }
@@ -100,15 +127,16 @@ TEST(ShippedModelTest, AnEmptyFloorIsNotOcclusion) {
   // depth height / (cos(pitch) * (v / f) + sin(pitch)) along the optical axis (y down).
   for (const double height_m : {0.8, 1.5}) {
     for (const double pitch_rad : {0.5, 0.9}) {
-      cv::Mat rgb(kSize, kSize, CV_8UC3);
-      cv::Mat depth(kSize, kSize, CV_32FC1);
-      for (int row = 0; row < kSize; ++row) {
-        const double v = (row + 0.5 - kSize / 2.0) / kFocalPx;
+      const int size = frameSize();
+      cv::Mat rgb(size, size, CV_8UC3);
+      cv::Mat depth(size, size, CV_32FC1);
+      for (int row = 0; row < size; ++row) {
+        const double v = (row + 0.5 - size / 2.0) / focalPx();
         const double down = std::cos(pitch_rad) * v + std::sin(pitch_rad);
         const float z = down > 1e-3 ? static_cast<float>(height_m / down) : NAN;
         const bool seen = std::isfinite(z) && z < 8.0f;
         const auto shade = static_cast<unsigned char>(seen ? 150 - 8 * std::min(z, 8.0f) : 0);
-        for (int column = 0; column < kSize; ++column) {
+        for (int column = 0; column < size; ++column) {
           depth.at<float>(row, column) = seen ? z : NAN;
           rgb.at<cv::Vec3b>(row, column) = cv::Vec3b(shade, shade * 0.8, shade * 0.6);
         }
@@ -126,8 +154,8 @@ class SimulatedViews : public ::testing::Test {
  protected:
   static EnvironmentOptions options() {
     EnvironmentOptions options;
-    options.width = kSize;
-    options.height = kSize;
+    options.width = frameSize();
+    options.height = frameSize();
     return options;
   }
   Environment env_{options()};
@@ -154,7 +182,7 @@ TEST_F(SimulatedViews, OneObjectAloneIsNotOcclusion) {
       const int visible_px = cv::countNonZero(visible);
       cv::Mat bit;
       cv::bitwise_and(view.amodal_bits, cv::Scalar(1 << k), bit);
-      if (visible_px < 200 || cv::countNonZero(bit) != visible_px) continue;
+      if (visible_px < scaledArea(200) || cv::countNonZero(bit) != visible_px) continue;
       cv::Mat rgb(view.rgb.size(), CV_8UC3, cv::Scalar::all(0));
       cv::Mat depth(view.depth.size(), CV_32FC1, cv::Scalar(NAN));
       view.rgb.copyTo(rgb, visible);
@@ -172,20 +200,22 @@ TEST_F(SimulatedViews, MovedContentMovesTheEstimate) {
   int checked = 0;
   for (std::uint64_t seed = 1; seed <= 40; ++seed) {
     const StepResult start = env_.reset(seed);
-    if (start.info.occlusion.total_pixels < 150) continue;  // little to see moving
+    if (start.info.occlusion.total_pixels < scaledArea(150)) continue;  // little to see moving
     const Observation& view = *start.observation;
     cv::Mat mask;
     const std::int64_t estimated = estimatedPixels(view.rgb, view.depth, &mask);
-    ASSERT_GE(estimated, 20) << "scene " << seed << " starts with "
-                             << start.info.occlusion.total_pixels
-                             << " px of occlusion, estimated at " << estimated;
+    ASSERT_GE(estimated, scaledArea(20))
+        << "scene " << seed << " starts with " << start.info.occlusion.total_pixels
+        << " px of occlusion, estimated at " << estimated;
     ++checked;
-    const cv::Mat expected_all = shifted(mask, 12, -8, cv::Scalar(0));
+    // (12, -8) px at 128 px.
+    const int dx = scaledPx(12), dy = scaledPx(-8), size = frameSize();
+    const cv::Mat expected_all = shifted(mask, dx, dy, cv::Scalar(0));
     cv::Mat moved_mask;
-    estimatedPixels(shifted(view.rgb, 12, -8, cv::Scalar::all(0)),
-                    shifted(view.depth, 12, -8, cv::Scalar(NAN)), &moved_mask);
+    estimatedPixels(shifted(view.rgb, dx, dy, cv::Scalar::all(0)),
+                    shifted(view.depth, dx, dy, cv::Scalar(NAN)), &moved_mask);
     // Compare where both frames show the scene.
-    const cv::Rect both(12, 0, kSize - 12, kSize - 8);
+    const cv::Rect both(dx, 0, size - dx, size + dy);
     const cv::Mat expected = expected_all(both) > 0, got = moved_mask(both) > 0;
     const double overlap = cv::countNonZero(expected & got);
     const double either = cv::countNonZero(expected | got);
