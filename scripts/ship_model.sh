@@ -87,6 +87,15 @@ lines = ["# Shipped models", "",
 lines += ["| model | network | dataset | epoch | val IoU | gradient / escape angle | size | sha256 |",
           "| --- | --- | --- | ---: | ---: | --- | ---: | --- |"]
 policies, derived, chosen_notes = [], [], []
+
+
+def frames_per_scene(ds):
+    # A DAgger dataset (occlusion_dagger) holds the states of the agent's own roll-outs.
+    if "dagger" in ds:
+        return f"roll-outs of {os.path.basename(ds['dagger']['model'])}"
+    return f"{ds['frames']} frames/scene"
+
+
 for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     m = json.load(open(path))
     if m.get("kind") == "ppo_policy":
@@ -106,7 +115,7 @@ for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     lines.append(f"| `{m['file']}` | {net['variant']}{'-L1' if loss == 'smooth_l1' else ''}, "
                  f"{net['input_size']} px, base {net['base_channels']} | {ds['source']} "
                  f"{','.join(ds['categories']) or 'any'}, seeds {ds['first_seed']}.., "
-                 f"{ds['frames']} frames/scene, {ds['size']} px"
+                 f"{frames_per_scene(ds)}, {ds['size']} px"
                  f"{', dataset.json sha256 ' + m['dataset_manifest_sha256'][:12] + '...' if 'dataset_manifest_sha256' in m else ''}"
                  f"{' + ' + ', '.join(m['extra_datasets']) if m.get('extra_datasets') else ''}"
                  f" | {m['epoch']} | "
