@@ -35,6 +35,7 @@ namespace {
 
 constexpr double kBridgeOcclusionProbability = 0.01;  // config/camera_bridge.yaml's default
 constexpr int kCheckSize = 128;  // [px], the frames' size the checks' lengths and areas are for
+constexpr double kFieldOfViewRad = M_PI / 3.0;  // the frames' horizontal field of view, 60 deg
 
 std::shared_ptr<LoadedModel> shippedModel() {
   static const auto model = [] {
@@ -53,8 +54,9 @@ int frameSize() {
   static const int size = [] {
     const auto& config = shippedModel()->network->config();
     const int seen = static_cast<int>(std::lround(config.input_size / config.view_crop));
-    std::cout << "[checks] frames of " << std::max(kCheckSize, seen) << " px\n";
-    return std::max(kCheckSize, seen);
+    const int size = std::max(kCheckSize, seen);
+    std::cout << "[checks] frames of " << size << " px\n";
+    return size;
   }();
   return size;
 }
@@ -66,10 +68,6 @@ int scaledPx(double length_px) {
 }
 double scaledArea(double area_px) {
   return area_px * frameScale() * frameScale();
-}
-// [px], for a 60 deg horizontal field of view.
-double focalPx() {
-  return frameSize() / (2.0 * 0.57735026919);
 }
 
 bool bridgeEstimate() {
@@ -92,7 +90,7 @@ std::int64_t estimatedPixels(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat* 
   }();
   // The frames' camera: 60 deg horizontal field of view.
   const CameraIntrinsics intrinsics =
-      CameraIntrinsics::fromFieldOfView(rgb.cols, rgb.rows, 2.0 * std::atan(0.57735026919));
+      CameraIntrinsics::fromFieldOfView(rgb.cols, rgb.rows, kFieldOfViewRad);
   cv::Mat local;
   return bridge->estimate(rgb, depth, intrinsics, mask ? *mask : local);
 }
@@ -128,10 +126,11 @@ TEST(ShippedModelTest, AnEmptyFloorIsNotOcclusion) {
   for (const double height_m : {0.8, 1.5}) {
     for (const double pitch_rad : {0.5, 0.9}) {
       const int size = frameSize();
+      const double focal_px = CameraIntrinsics::fromFieldOfView(size, size, kFieldOfViewRad).fx;
       cv::Mat rgb(size, size, CV_8UC3);
       cv::Mat depth(size, size, CV_32FC1);
       for (int row = 0; row < size; ++row) {
-        const double v = (row + 0.5 - size / 2.0) / focalPx();
+        const double v = (row + 0.5 - size / 2.0) / focal_px;
         const double down = std::cos(pitch_rad) * v + std::sin(pitch_rad);
         const float z = down > 1e-3 ? static_cast<float>(height_m / down) : NAN;
         const bool seen = std::isfinite(z) && z < 8.0f;
