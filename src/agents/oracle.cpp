@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <random>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/occlusion/occlusion.hpp"
@@ -271,6 +272,25 @@ Action OracleAgent::act(const RigObservation& observation) {
   }
   if (next_ >= plan_.path.size()) return {1.0, 0.0};  // nothing within reach: keep circling
   return plan_.path[next_++];
+}
+
+int followOracleWithError(Environment& environment, OcclusionOracle& oracle, StepResult start,
+                          double error_sd_rad, std::uint64_t seed) {
+  if (!(std::isfinite(error_sd_rad) && error_sd_rad >= 0.0)) {
+    throw InvalidArgumentError("the error's standard deviation must be finite and >= 0");
+  }
+  std::mt19937_64 random(seed);
+  std::normal_distribution<double> error(0.0, 1.0);
+  StepResult result = start;
+  int steps = 0;
+  while (!result.terminated && !result.truncated) {
+    const OracleAnswer answer = oracle.query(result.info.pose);
+    const double direction_rad = answer.steps > 0 ? answer.firstDirectionRad() : 0.0;
+    const double move_rad = direction_rad + error_sd_rad * error(random);
+    result = environment.step({std::cos(move_rad), std::sin(move_rad)});
+    ++steps;
+  }
+  return steps;
 }
 
 AgentEntry oracleAgentEntry() {

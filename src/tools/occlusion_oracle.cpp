@@ -1,9 +1,13 @@
 // occlusion_oracle: the oracle's answer (fewest steps to an unoccluded view, first direction) on
 // the scenes of a scene set, its cost per query, and, with --compare, how often a finer lattice
-// gives another step count (the check behind the default spacing; doc/ORACLE.md).
+// gives another step count (the check behind the default spacing; doc/ORACLE.md), and, with
+// --follow-error, how many steps an agent needs whose every move is the oracle's first move off
+// by a random angle (how precise an escape head must be; doc/ORACLE.md).
 //   occlusion_oracle --scenes config/scenes/test_embedded.yaml --limit 20 --compare 0.25
+//   occlusion_oracle --scenes config/scenes/validation_sweethome3d_200.yaml --follow-error 30
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -26,6 +30,8 @@ struct Arguments {
   int limit = 0;  // 0: every scene
   int size = 128;
   std::optional<double> compare;  // a second lattice spacing [steps]
+  // [deg] standard deviation of the error added to each followed move; unset: no episodes
+  std::optional<double> follow_error_deg;
 };
 
 const OptionTable<Arguments>& argumentTable() {
@@ -41,7 +47,13 @@ const OptionTable<Arguments>& argumentTable() {
                OptionSpec("also run a second oracle with this spacing and count differing answers")
                    .unit("steps")
                    .above(0)
-                   .atMost(1));
+                   .atMost(1))
+          .add("follow_error", &Arguments::follow_error_deg,
+               OptionSpec("also run each scene's episode with every move the oracle's first move "
+                          "from the current view turned by a normal error of this standard "
+                          "deviation (drawn from the scene's seed), failures at max_steps")
+                   .unit("deg")
+                   .range(0, 180));
   return table;
 }
 
@@ -53,7 +65,7 @@ double median(std::vector<double> values) {
 
 /// What the queries cost and answered, for the summary line.
 struct Tally {
-  std::vector<double> seconds, renders, steps;
+  std::vector<double> seconds, renders, steps, followed_steps;
   int differing = 0, compared = 0;
 };
 
@@ -67,6 +79,14 @@ void printSummary(const Arguments& args, const occlusion_env::SceneSet& set, con
   if (args.compare) {
     std::cerr << "; spacing " << *args.compare << " differs on " << tally.differing << " of "
               << tally.compared;
+  }
+  if (args.follow_error_deg) {
+    double mean_followed = 0.0;
+    for (const double value : tally.followed_steps) {
+      mean_followed += value / tally.followed_steps.size();
+    }
+    std::cerr << "; followed with a " << *args.follow_error_deg << " deg error: mean "
+              << mean_followed << " steps (" << mean_followed / mean_steps << "x the oracle's)";
   }
   std::cerr << "\n";
 }
@@ -86,7 +106,8 @@ int run(const Arguments& args) {
   OcclusionOracle finer(environment, finer_options);
   Tally tally;
   std::cout << "seed,steps,first_direction_rad,renders,seconds"
-            << (args.compare ? ",steps_compared" : "") << "\n";
+            << (args.compare ? ",steps_compared" : "")
+            << (args.follow_error_deg ? ",steps_followed" : "") << "\n";
   for (const std::uint64_t seed : set.seeds) {
     const StepResult start = environment.reset(seed, resetOptionsFor(set));
     oracle.clear();
@@ -106,6 +127,12 @@ int run(const Arguments& args) {
       tally.differing += other.steps != answer.steps;
       std::cout << ',' << other.steps;
     }
+    if (args.follow_error_deg) {
+      const int followed = followOracleWithError(environment, oracle, start,
+                                                 *args.follow_error_deg * M_PI / 180.0, seed);
+      tally.followed_steps.push_back(followed);
+      std::cout << ',' << followed;
+    }
     std::cout << "\n";
   }
   printSummary(args, set, tally);
@@ -123,7 +150,7 @@ int main(int argc, char** argv) {
       "occlusion_oracle");
   tools::addOptionFlags(app, argumentTable(), args, {"scenes", "limit", "size"});
   tools::addOptionFlags(app, oracleOptionTable(), args.oracle, {"lattice_spacing_steps"});
-  tools::addOptionFlags(app, argumentTable(), args, {"compare"});
+  tools::addOptionFlags(app, argumentTable(), args, {"compare", "follow_error"});
   app.callback([&args] {
     if (args.scenes_path.empty()) throw CLI::ValidationError("--scenes is required");
   });

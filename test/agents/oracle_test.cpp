@@ -110,6 +110,36 @@ TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
   EXPECT_GE(checked, 1) << "no scene gave a one-step pose with a run of 3 directions or more";
 }
 
+// Following the oracle's first move from each view: without error it ends clear about as soon as
+// the bound; an error costs steps, and the same seed gives the same episode.
+TEST(OracleTest, FollowingItsFirstMoveWithAnErrorCostsStepsRepeatably) {
+  Environment environment(smallOptions());
+  int bound_total = 0, exact_total = 0, erring_total = 0;
+  for (std::uint64_t seed = 0; seed < 4; ++seed) {
+    ResetOptions reset;
+    reset.start_azimuth_rad = 0.0;
+    const StepResult start = environment.reset(seed, reset);
+    OcclusionOracle oracle(environment);
+    const int bound = oracle.query(start.info.pose).steps;
+    ASSERT_GT(bound, 0) << "scenes start occluded";
+    const int exact = followOracleWithError(environment, oracle, start, 0.0, seed);
+    EXPECT_LE(exact, bound + 1) << "seed " << seed << ": along the first moves";
+    const StepResult again = environment.reset(seed, reset);
+    const int erring = followOracleWithError(environment, oracle, again, 1.0, seed);
+    const StepResult once_more = environment.reset(seed, reset);
+    EXPECT_EQ(followOracleWithError(environment, oracle, once_more, 1.0, seed), erring)
+        << "seed " << seed;
+    bound_total += bound;
+    exact_total += exact;
+    erring_total += erring;
+  }
+  EXPECT_GT(erring_total, exact_total) << "a 57 deg error costs nothing";
+  EXPECT_LE(exact_total, bound_total + 1);
+  OcclusionOracle oracle(environment);
+  const StepResult start = environment.reset(1);
+  EXPECT_THROW(followOracleWithError(environment, oracle, start, -0.1, 1), InvalidArgumentError);
+}
+
 TEST(OracleTest, UnoccludedPoseNeedsNoStepAndOptionsAreChecked) {
   Environment environment(smallOptions());
   ResetOptions reset;

@@ -107,6 +107,13 @@ class OracleAgent : public Agent {
   bool planned_ = false;
 };
 
+/// The steps of the episode from `start` (the environment's current one) whose every move is the
+/// oracle's first move from the current view turned by an angle ~ N(0, error_sd_rad) drawn from
+/// `seed` (max_steps when it ends truncated): what an agent needs whose escape direction errs by
+/// that much. Where the oracle finds nothing within reach the move is +azimuth, turned alike.
+int followOracleWithError(Environment& environment, OcclusionOracle& oracle, StepResult start,
+                          double error_sd_rad, std::uint64_t seed);
+
 AgentEntry oracleAgentEntry();
 
 }  // namespace occlusion_env
