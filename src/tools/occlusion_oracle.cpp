@@ -57,6 +57,12 @@ const OptionTable<Arguments>& argumentTable() {
   return table;
 }
 
+double mean(const std::vector<double>& values) {
+  double sum = 0.0;
+  for (const double value : values) sum += value;
+  return values.empty() ? 0.0 : sum / values.size();
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -70,8 +76,7 @@ struct Tally {
 };
 
 void printSummary(const Arguments& args, const occlusion_env::SceneSet& set, const Tally& tally) {
-  double mean_steps = 0.0;
-  for (const double value : tally.steps) mean_steps += value / tally.steps.size();
+  const double mean_steps = mean(tally.steps);
   std::cerr << "occlusion_oracle: " << set.seeds.size() << " scenes of " << set.name << " at "
             << args.size << " px, spacing " << args.oracle.lattice_spacing_steps << " steps: mean "
             << std::fixed << std::setprecision(2) << mean_steps << " steps, median "
@@ -81,10 +86,7 @@ void printSummary(const Arguments& args, const occlusion_env::SceneSet& set, con
               << tally.compared;
   }
   if (args.follow_error_deg) {
-    double mean_followed = 0.0;
-    for (const double value : tally.followed_steps) {
-      mean_followed += value / tally.followed_steps.size();
-    }
+    const double mean_followed = mean(tally.followed_steps);
     std::cerr << "; followed with a " << *args.follow_error_deg << " deg error: mean "
               << mean_followed << " steps (" << mean_followed / mean_steps << "x the oracle's)";
   }
