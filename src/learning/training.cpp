@@ -45,6 +45,7 @@ Samples emptySamples(int64_t n, int size) {
   samples.gradient_valid = torch::zeros({n});
   samples.escape = torch::zeros({n, 2});
   samples.escape_valid = torch::zeros({n});
+  samples.oracle_steps = torch::full({n}, -1, torch::kInt);
   return samples;
 }
 
@@ -80,6 +81,7 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     cv::Mat mask_out(size, size, CV_8UC1, samples.masks[i].data_ptr<std::uint8_t>());
     cv::threshold(mask_small, mask_out, mask_threshold, 1, cv::THRESH_BINARY);
     const dataset::FrameLabels& labels = frame.labels;
+    samples.oracle_steps[i] = labels.oracle_steps;
     if (labels.descent) {
       samples.gradient[i][0] = labels.descent->sin;
       samples.gradient[i][1] = labels.descent->cos;
@@ -512,6 +514,56 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_escape_angle_deg = escape_angle / std::max(1.0, escape_count);
   m.val_escape_bins_angle_deg = escape_bins_angle / std::max(1.0, escape_count);
   return m;
+}
+
+torch::Tensor escapeAngleErrors(MultiTaskUNet& network, const Samples& samples, int batch_size) {
+  torch::NoGradGuard no_grad;
+  const bool was_training = network->is_training();
+  network->eval();
+  const int64_t n = samples.size();
+  torch::Tensor errors = torch::full({n}, std::nan(""));
+  for (int64_t start = 0; start < n; start += batch_size) {
+    const int64_t end = std::min<int64_t>(n, start + batch_size);
+    const torch::Tensor indices = torch::arange(start, end);
+    const Batch batch = batchOf(samples, indices);
+    const torch::Tensor angles =
+        angleErrors(network->forward(batch.inputs).escape_direction, batch.escape);
+    errors.slice(0, start, end)
+        .copy_(
+            torch::where(batch.escape_valid > 0.5, angles, torch::full_like(angles, std::nan(""))));
+  }
+  if (was_training) network->train();
+  return errors;
+}
+
+nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
+                                         const torch::Tensor& oracle_steps) {
+  struct Bucket {
+    const char* name;
+    int first, last;  // oracle's steps, inclusive
+  };
+  const Bucket buckets[] = {{"1", 1, 1},        {"2", 2, 2},   {"3", 3, 3},
+                            {"4-5", 4, 5},      {"6-8", 6, 8}, {"9 or more", 9, 1 << 30},
+                            {"all", 1, 1 << 30}};
+  const torch::Tensor labelled = errors_deg.isnan().logical_not();
+  nlohmann::json rows = nlohmann::json::array();
+  for (const Bucket& bucket : buckets) {
+    const torch::Tensor in =
+        labelled.logical_and(oracle_steps >= bucket.first).logical_and(oracle_steps <= bucket.last);
+    const torch::Tensor errors = errors_deg.masked_select(in);
+    const int64_t n = errors.numel();
+    if (n == 0) continue;
+    const auto share = [&](double above) {
+      return (errors > above).sum().item<double>() / static_cast<double>(n);
+    };
+    rows.push_back({{"oracle_steps", bucket.name},
+                    {"frames", n},
+                    {"mean_deg", errors.mean().item<double>()},
+                    {"median_deg", errors.median().item<double>()},
+                    {"share_over_45_deg", share(45.0)},
+                    {"share_over_90_deg", share(90.0)}});
+  }
+  return rows;
 }
 
 namespace {

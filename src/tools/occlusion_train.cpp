@@ -54,7 +54,9 @@ const OptionTable<Arguments>& argumentTable() {
           .add("check", &Arguments::check_model,
                OptionSpec("instead: the figures of this model (as validation's) on every frame of "
                           "the --data datasets, which must be other scenes than its training and "
-                          "validation ones (e.g. a dataset of seeds 950000 on, --validation 0)"))
+                          "validation ones (e.g. a dataset of seeds 950000 on, --validation 0), "
+                          "and the escape error by the oracle's steps from each frame to a clear "
+                          "view"))
           .add("bench_inference", &Arguments::bench_model,
                OptionSpec("instead: time one learned step's inference with this model (input from "
                           "a 256 x 256 observation, batch 1, one thread) and exit"));
@@ -99,6 +101,19 @@ int benchInference(const std::string& model_path) {
   return 0;
 }
 
+void printEscapeErrors(const nlohmann::json& rows) {
+  std::cout << "escape error by the oracle's steps from the frame to a clear view:\n"
+            << "  steps       frames   mean   median   > 45 deg   > 90 deg\n";
+  for (const nlohmann::json& row : rows) {
+    std::cout << "  " << std::left << std::setw(10) << row["oracle_steps"].get<std::string>()
+              << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
+              << std::setprecision(1) << std::setw(7) << row["mean_deg"].get<double>()
+              << std::setw(9) << row["median_deg"].get<double>() << std::setw(10)
+              << 100.0 * row["share_over_45_deg"].get<double>() << " %" << std::setw(9)
+              << 100.0 * row["share_over_90_deg"].get<double>() << " %\n";
+  }
+}
+
 // Validation's figures of a model on every frame of datasets it was neither trained nor chosen
 // on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
@@ -121,6 +136,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
        {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
     result["figures"].erase(unused);
   }
+  result["escape_by_oracle_steps"] = learning::escapeErrorsByOracleSteps(
+      learning::escapeAngleErrors(model.network, frames, 64), frames.oracle_steps);
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
@@ -134,6 +151,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                     ? " (bins " + std::to_string(m.val_escape_bins_angle_deg).substr(0, 5) + " deg)"
                     : std::string())
             << " (" << out << ")\n";
+  printEscapeErrors(result["escape_by_oracle_steps"]);
   return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
@@ -601,7 +602,39 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
   EXPECT_GE(figures.val_iou, 0.0);
   EXPECT_LE(figures.val_iou, 1.0);
   EXPECT_GT(figures.val_pixel_accuracy, 0.5);
+  // Each frame's error beside its label's steps: labelled frames are 1 step or more away.
+  const torch::Tensor errors = escapeAngleErrors(model.network, frames, 4);
+  ASSERT_EQ(errors.size(0), frames.size());
+  for (int64_t i = 0; i < frames.size(); ++i) {
+    const bool labelled = frames.escape_valid[i].item<float>() > 0.5f;
+    EXPECT_EQ(std::isnan(errors[i].item<float>()), !labelled) << "frame " << i;
+    if (labelled) {
+      EXPECT_GE(frames.oracle_steps[i].item<int>(), 1) << "frame " << i;
+    }
+  }
   for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
+}
+
+// The escape error by the oracle's steps: each labelled frame in its row and in "all", frames
+// without a label in none, rows without frames left out.
+TEST(LearningTest, EscapeErrorsAreGroupedByTheOraclesSteps) {
+  const torch::Tensor errors = torch::tensor({10.0f, 50.0f, 100.0f, NAN, 30.0f, 170.0f});
+  const torch::Tensor steps = torch::tensor({1, 1, 2, 3, 7, 12}, torch::kInt);
+  const nlohmann::json rows = escapeErrorsByOracleSteps(errors, steps);
+  std::map<std::string, nlohmann::json> by_steps;
+  for (const nlohmann::json& row : rows) by_steps[row["oracle_steps"]] = row;
+  ASSERT_EQ(by_steps.size(), 5u) << rows.dump();
+  EXPECT_EQ(by_steps.count("3"), 0u) << "its one frame has no label";
+  EXPECT_EQ(by_steps.at("1")["frames"], 2);
+  EXPECT_DOUBLE_EQ(by_steps.at("1")["mean_deg"].get<double>(), 30.0);
+  EXPECT_DOUBLE_EQ(by_steps.at("1")["share_over_45_deg"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(by_steps.at("1")["share_over_90_deg"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(by_steps.at("2")["share_over_90_deg"].get<double>(), 1.0);
+  EXPECT_EQ(by_steps.at("6-8")["frames"], 1);
+  EXPECT_EQ(by_steps.at("9 or more")["frames"], 1);
+  EXPECT_EQ(by_steps.at("all")["frames"], 5);
+  EXPECT_DOUBLE_EQ(by_steps.at("all")["mean_deg"].get<double>(), 72.0);
+  EXPECT_DOUBLE_EQ(by_steps.at("all")["median_deg"].get<double>(), 50.0);
 }
 
 // A model whose input clears floors and walls trains on a dataset's frames: each is cleared with

@@ -28,6 +28,7 @@ struct Samples {
   torch::Tensor gradient_valid;  // [N] 0 / 1
   torch::Tensor escape;          // [N, 2] (sin, cos) of the oracle's first step
   torch::Tensor escape_valid;    // [N] 0 / 1
+  torch::Tensor oracle_steps;    // [N] int32: the label's fewest steps to a clear view, -1 none
   int64_t size() const { return inputs.defined() ? inputs.size(0) : 0; }
 };
 
@@ -143,6 +144,17 @@ struct EpochMetrics {
 /// Validation figures of `network` on `samples` (eval mode, no gradients).
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss);
+
+/// The escape head's angular error on each frame of `samples` [deg] (eval mode, no gradients);
+/// NaN where a frame has no escape label.
+torch::Tensor escapeAngleErrors(MultiTaskUNet& network, const Samples& samples, int batch_size);
+
+/// `errors_deg` (escapeAngleErrors) by how far each frame is from a clear view
+/// (`oracle_steps`): rows for 1, 2, 3, 4-5, 6-8 and 9 or more steps and "all", each with frames,
+/// mean_deg, median_deg, share_over_45_deg and share_over_90_deg; frames without an escape label
+/// (NaN) are left out, and so are rows without frames. Where the escape agent loses its steps.
+nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
+                                         const torch::Tensor& oracle_steps);
 
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
