@@ -21,22 +21,29 @@ int stepsFor(double distance, double h) {
   return std::max(2, static_cast<int>(std::ceil(distance / h - 1e-9)));
 }
 
+// The angle [rad] between the heading to a target `remaining` away (in (0, 2h]) and each of the
+// two moves of length h that land on it.
+double bendFor(double remaining, double h) {
+  return std::acos(std::clamp(remaining / (2.0 * h), -1.0, 1.0));
+}
+
 // The moves from the origin to `offset` (length d > 0) in `steps` moves of length h: straight
-// towards the target, the last two bending so that they land on it. Among the two bends, the one
-// whose corner lies within +/- `elevation_room` (the corner's allowed elevation offset range).
+// towards the target, the last two bending so that they land on it. The bend counter-clockwise
+// of the heading (+1) or clockwise (-1): `preferred_side` when its corner lies within the allowed
+// elevation offsets [elevation_low, elevation_high], else the other.
 std::vector<Action> pathTo(const Eigen::Vector2d& offset, int steps, double h, double elevation_low,
-                           double elevation_high) {
+                           double elevation_high, double preferred_side = 1.0) {
   const double distance = offset.norm();
   const double heading = std::atan2(offset.y(), offset.x());
   std::vector<Action> path;  // steps >= 2: one step is the circle's case
   for (int i = 0; i < steps - 2; ++i) path.push_back(move(heading, h));
-  const double remaining = distance - (steps - 2) * h;  // in (0, 2h]
-  const double bend = std::acos(std::clamp(remaining / (2.0 * h), -1.0, 1.0));
+  const double bend = bendFor(distance - (steps - 2) * h, h);
   const Eigen::Vector2d before = offset.normalized() * ((steps - 2) * h);
-  for (const double sign : {1.0, -1.0}) {
+  for (const double sign : {preferred_side, -preferred_side}) {
     const double first = heading + sign * bend;
     const double corner_elevation = before.y() + h * std::sin(first);
-    if (sign < 0.0 || (corner_elevation >= elevation_low && corner_elevation <= elevation_high)) {
+    if (sign != preferred_side ||
+        (corner_elevation >= elevation_low && corner_elevation <= elevation_high)) {
       path.push_back(move(first, h));
       path.push_back(move(heading - sign * bend, h));
       break;
@@ -209,6 +216,27 @@ std::optional<Action> OcclusionOracle::unoccludingStep(const SphericalPose& pose
   return move(2.0 * M_PI * middle / directions, step_rad_);
 }
 
+double OcclusionOracle::twoStepSide(const SphericalPose& pose, const Eigen::Vector2d& target_offset,
+                                    double elevation_low, double elevation_high) {
+  // Two steps from a clear view the first move is the bend itself, up to 60 deg off the heading:
+  // a fixed side (counter-clockwise) is mirrored by a training image's flip into a label the
+  // oracle never gives, so the side is chosen by what the two corners show, which a mirrored
+  // scene shows mirrored.
+  const double heading = std::atan2(target_offset.y(), target_offset.x());
+  const double bend = bendFor(target_offset.norm(), step_rad_);
+  if (bend < 1e-9) return 1.0;  // one corner, straight ahead
+  std::int64_t pixels[2];
+  for (const int i : {0, 1}) {
+    const Action first = move(heading + (i == 0 ? bend : -bend), step_rad_);
+    if (first.d_elevation_rad < elevation_low || first.d_elevation_rad > elevation_high) {
+      return i == 0 ? -1.0 : 1.0;  // only the other corner is allowed
+    }
+    pixels[i] = occlusionAt(
+        {pose.azimuth_rad + first.d_azimuth_rad, pose.elevation_rad + first.d_elevation_rad});
+  }
+  return pixels[1] < pixels[0] ? -1.0 : 1.0;  // the less occluded corner; a tie: +1
+}
+
 OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
   if (!environment_.hasEpisode()) throw InvalidStateError("oracle: no episode (reset first)");
   renders_ = 0;
@@ -243,7 +271,11 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
   if (target_offset) {
     answer.steps = stepsFor(target_offset->norm(), step_rad_);
     if (answer.steps <= options_.max_steps) {
-      answer.path = pathTo(*target_offset, answer.steps, step_rad_, elevation_low, elevation_high);
+      const double side = answer.steps == 2
+                              ? twoStepSide(pose, *target_offset, elevation_low, elevation_high)
+                              : 1.0;
+      answer.path =
+          pathTo(*target_offset, answer.steps, step_rad_, elevation_low, elevation_high, side);
       answer.target = {pose.azimuth_rad + target_offset->x(),
                        pose.elevation_rad + target_offset->y()};
     } else {

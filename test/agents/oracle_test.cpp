@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "occlusion_env/agents/core_agents.hpp"
@@ -18,6 +19,25 @@ EnvironmentOptions smallOptions() {
   EnvironmentOptions options;
   options.width = options.height = 96;
   return options;
+}
+
+// Resets the environment to `seed`'s scene, its start view at azimuth 0, and returns the pose
+// `moves_left` moves before the end of the oracle's path from that view (none when the path is
+// shorter); `oracle` is then anchored in that scene.
+std::optional<SphericalPose> poseBeforePathEnd(Environment& environment, OcclusionOracle& oracle,
+                                               std::uint64_t seed, int moves_left) {
+  ResetOptions reset;
+  reset.start_azimuth_rad = 0.0;
+  const StepResult start = environment.reset(seed, reset);
+  oracle.clear();
+  const OracleAnswer bound = oracle.query(start.info.pose);
+  if (bound.steps < moves_left) return std::nullopt;
+  SphericalPose pose = start.info.pose;
+  for (int i = 0; i + moves_left < bound.steps; ++i) {
+    pose = environment.camera().moved(pose, bound.path[i].d_azimuth_rad,
+                                      bound.path[i].d_elevation_rad);
+  }
+  return pose;
 }
 
 TEST(OracleTest, TheOracleAgentRealisesTheBoundAndNoAgentBeatsIt) {
@@ -64,20 +84,12 @@ TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
   Environment environment(smallOptions());
   const int directions = OracleOptions{}.circle_directions;
   const double step_rad = smallOptions().step_size_rad;
+  OcclusionOracle oracle(environment);
   int checked = 0;
   for (std::uint64_t seed = 0; seed < 12 && checked < 3; ++seed) {
-    ResetOptions reset;
-    reset.start_azimuth_rad = 0.0;
-    const StepResult start = environment.reset(seed, reset);
-    OcclusionOracle oracle(environment);
-    const OracleAnswer bound = oracle.query(start.info.pose);
-    if (bound.steps < 2) continue;
-    // The pose one step before the path's end.
-    SphericalPose pose = start.info.pose;
-    for (std::size_t i = 0; i + 1 < bound.path.size(); ++i) {
-      pose = environment.camera().moved(pose, bound.path[i].d_azimuth_rad,
-                                        bound.path[i].d_elevation_rad);
-    }
+    const std::optional<SphericalPose> one_step = poseBeforePathEnd(environment, oracle, seed, 1);
+    if (!one_step) continue;
+    const SphericalPose pose = *one_step;
     const OracleAnswer answer = oracle.query(pose);
     if (answer.steps != 1) continue;
     std::vector<bool> clear(directions);
@@ -103,11 +115,45 @@ TEST(OracleTest, AOneStepAnswerAimsAtTheMiddleOfTheWidestClearArc) {
     const long nearest = std::lround(answer.firstDirectionRad() * directions / (2.0 * M_PI));
     const int chosen = static_cast<int>((nearest % directions + directions) % directions);
     const int offset = (chosen - best_start + directions) % directions;
-    EXPECT_EQ(offset, (best_length - 1) / 2)
+    // The middle direction; of a run of even length, either of its two middle ones.
+    EXPECT_LE(std::abs(offset - (best_length - 1) / 2.0), 0.5)
         << "seed " << seed << ": a run of " << best_length << " from direction " << best_start;
     ++checked;
   }
   EXPECT_GE(checked, 1) << "no scene gave a one-step pose with a run of 3 directions or more";
+}
+
+// Two steps from a clear view the first move bends off the heading to the target; it bends to the
+// corner that shows less occlusion (rendered here), so that a mirrored scene gets the mirrored
+// label, as an image flip in training assumes. A fixed side (counter-clockwise, until 2026-11-28)
+// takes the more occluded corner in some of these scenes.
+TEST(OracleTest, ATwoStepAnswerBendsTowardsTheLessOccludedCorner) {
+  Environment environment(smallOptions());
+  OcclusionOracle oracle(environment);
+  int checked = 0, clockwise = 0;
+  for (std::uint64_t seed = 0; seed < 24; ++seed) {
+    const std::optional<SphericalPose> two_steps = poseBeforePathEnd(environment, oracle, seed, 2);
+    if (!two_steps) continue;
+    const SphericalPose pose = *two_steps;
+    const OracleAnswer answer = oracle.query(pose);
+    if (answer.steps != 2) continue;
+    const double heading = std::atan2(answer.target.elevation_rad - pose.elevation_rad,
+                                      answer.target.azimuth_rad - pose.azimuth_rad);
+    const double first = answer.firstDirectionRad();
+    const double mirrored = 2.0 * heading - first;  // the other move that lands in two steps
+    const auto occlusionAfter = [&](double direction) {
+      const double h = smallOptions().step_size_rad;
+      return environment
+          .viewFrom({pose.azimuth_rad + h * std::cos(direction),
+                     pose.elevation_rad + h * std::sin(direction)})
+          .occlusion.total_pixels;
+    };
+    EXPECT_LE(occlusionAfter(first), occlusionAfter(mirrored)) << "seed " << seed;
+    if (std::sin(first - heading) < -1e-6) ++clockwise;
+    ++checked;
+  }
+  EXPECT_GE(checked, 3) << "too few scenes with a two-step pose";
+  EXPECT_GE(clockwise, 1) << "no scene where the fixed side would have been the worse corner";
 }
 
 // Following the oracle's first move from each view: without error it ends clear about as soon as

@@ -73,6 +73,11 @@ class OcclusionOracle {
   // The offset [rad] (azimuth, elevation) from `pose` to the nearest unoccluded lattice pose within
   // max_steps steps and the elevation limit; none when there is none.
   std::optional<Eigen::Vector2d> nearestUnoccludedLatticeOffset(const SphericalPose& pose);
+  // Two steps from a clear view: the side of the heading to `target_offset` that the first move
+  // bends to, +1 (counter-clockwise in the (azimuth, elevation) plane) or -1: the one whose
+  // corner shows fewer occluded pixels (two renders).
+  double twoStepSide(const SphericalPose& pose, const Eigen::Vector2d& target_offset,
+                     double elevation_low, double elevation_high);
   // A single step from `pose` to an unoccluded view, its elevation change within
   // [elevation_low, elevation_high]: the middle of the widest run of the circle's directions
   // that give one; none when none does.
