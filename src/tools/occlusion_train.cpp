@@ -101,6 +101,7 @@ int benchInference(const std::string& model_path) {
   return 0;
 }
 
+// escapeErrorsByOracleSteps()' rows as a table on stdout, after the check's summary line.
 void printEscapeErrors(const nlohmann::json& rows) {
   std::cout << "escape error by the oracle's steps from the frame to a clear view:\n"
             << "  steps       frames   mean   median   > 45 deg   > 90 deg\n";
