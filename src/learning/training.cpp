@@ -460,7 +460,7 @@ nlohmann::json EpochMetrics::toJson() const {
 }
 
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                      const std::string& direction_loss) {
+                      const std::string& direction_loss, torch::Tensor* escape_errors_deg) {
   double escape_bins_angle = 0.0;
   torch::NoGradGuard no_grad;
   const bool was_training = network->is_training();
@@ -469,8 +469,10 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   double gradient_loss = 0.0, escape_loss = 0.0, gradient_angle = 0.0, escape_angle = 0.0;
   double gradient_count = 0.0, escape_count = 0.0;
   const int64_t n = samples.size();
+  if (escape_errors_deg) *escape_errors_deg = torch::full({n}, std::nan(""));
   for (int64_t start = 0; start < n; start += batch_size) {
-    const torch::Tensor indices = torch::arange(start, std::min<int64_t>(n, start + batch_size));
+    const int64_t end = std::min<int64_t>(n, start + batch_size);
+    const torch::Tensor indices = torch::arange(start, end);
     const Batch batch = batchOf(samples, indices);
     const NetworkOutput out = network->forward(batch.inputs);
     const double count = static_cast<double>(indices.size(0));
@@ -491,8 +493,13 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
     gradient_angle += (angleErrors(out.gradient_direction, batch.gradient) * batch.gradient_valid)
                           .sum()
                           .item<double>();
-    escape_angle +=
-        (angleErrors(out.escape_direction, batch.escape) * batch.escape_valid).sum().item<double>();
+    const torch::Tensor escape_errors = angleErrors(out.escape_direction, batch.escape);
+    escape_angle += (escape_errors * batch.escape_valid).sum().item<double>();
+    if (escape_errors_deg) {
+      escape_errors_deg->slice(0, start, end)
+          .copy_(torch::where(batch.escape_valid > 0.5, escape_errors,
+                              torch::full_like(escape_errors, std::nan(""))));
+    }
     if (out.escape_logits.defined()) {
       escape_bins_angle +=
           (angleErrors(escapeDirectionFromLogits(out.escape_logits), batch.escape) *
@@ -514,26 +521,6 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_escape_angle_deg = escape_angle / std::max(1.0, escape_count);
   m.val_escape_bins_angle_deg = escape_bins_angle / std::max(1.0, escape_count);
   return m;
-}
-
-torch::Tensor escapeAngleErrors(MultiTaskUNet& network, const Samples& samples, int batch_size) {
-  torch::NoGradGuard no_grad;
-  const bool was_training = network->is_training();
-  network->eval();
-  const int64_t n = samples.size();
-  torch::Tensor errors = torch::full({n}, std::nan(""));
-  for (int64_t start = 0; start < n; start += batch_size) {
-    const int64_t end = std::min<int64_t>(n, start + batch_size);
-    const torch::Tensor indices = torch::arange(start, end);
-    const Batch batch = batchOf(samples, indices);
-    const torch::Tensor angles =
-        angleErrors(network->forward(batch.inputs).escape_direction, batch.escape);
-    errors.slice(0, start, end)
-        .copy_(
-            torch::where(batch.escape_valid > 0.5, angles, torch::full_like(angles, std::nan(""))));
-  }
-  if (was_training) network->train();
-  return errors;
 }
 
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,

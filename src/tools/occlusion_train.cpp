@@ -128,7 +128,9 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
       learning::loadCheckFrames(data_dirs, model.network->config().inputFormat(), model.manifest);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
-  const learning::EpochMetrics m = learning::evaluate(model.network, frames, 64, loss);
+  torch::Tensor escape_errors_deg;
+  const learning::EpochMetrics m =
+      learning::evaluate(model.network, frames, 64, loss, &escape_errors_deg);
   nlohmann::json result = {{"model", model_path},
                            {"datasets", data_dirs},
                            {"frames", frames.size()},
@@ -137,8 +139,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
        {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
     result["figures"].erase(unused);
   }
-  result["escape_by_oracle_steps"] = learning::escapeErrorsByOracleSteps(
-      learning::escapeAngleErrors(model.network, frames, 64), frames.oracle_steps);
+  result["escape_by_oracle_steps"] =
+      learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps);
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;

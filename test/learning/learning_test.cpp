@@ -598,12 +598,12 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
       << "the training data by another path";
   const Samples frames = loadCheckFrames({other_dir.string()}, 32, model.manifest);
   EXPECT_EQ(frames.size(), 8) << "every frame, whatever its split";
-  const EpochMetrics figures = evaluate(model.network, frames, 4, "mse");
+  torch::Tensor errors;
+  const EpochMetrics figures = evaluate(model.network, frames, 4, "mse", &errors);
   EXPECT_GE(figures.val_iou, 0.0);
   EXPECT_LE(figures.val_iou, 1.0);
   EXPECT_GT(figures.val_pixel_accuracy, 0.5);
   // Each frame's error beside its label's steps: labelled frames are 1 step or more away.
-  const torch::Tensor errors = escapeAngleErrors(model.network, frames, 4);
   ASSERT_EQ(errors.size(0), frames.size());
   for (int64_t i = 0; i < frames.size(); ++i) {
     const bool labelled = frames.escape_valid[i].item<float>() > 0.5f;

@@ -141,15 +141,14 @@ struct EpochMetrics {
   nlohmann::json toJson() const;
 };
 
-/// Validation figures of `network` on `samples` (eval mode, no gradients).
+/// Validation figures of `network` on `samples` (eval mode, no gradients); with
+/// `escape_errors_deg`, also the escape head's angular error on each frame [deg] there, NaN where
+/// a frame has no escape label.
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                      const std::string& direction_loss);
+                      const std::string& direction_loss,
+                      torch::Tensor* escape_errors_deg = nullptr);
 
-/// The escape head's angular error on each frame of `samples` [deg] (eval mode, no gradients);
-/// NaN where a frame has no escape label.
-torch::Tensor escapeAngleErrors(MultiTaskUNet& network, const Samples& samples, int batch_size);
-
-/// `errors_deg` (escapeAngleErrors) by how far each frame is from a clear view
+/// `errors_deg` (evaluate()'s escape errors) by how far each frame is from a clear view
 /// (`oracle_steps`): rows for 1, 2, 3, 4-5, 6-8 and 9 or more steps and "all", each with frames,
 /// mean_deg, median_deg, share_over_45_deg and share_over_90_deg; frames without an escape label
 /// (NaN) are left out, and so are rows without frames. Where the escape agent loses its steps.
