@@ -92,11 +92,13 @@ OcclusionOracle::OcclusionOracle(Environment& environment, const OracleOptions& 
 
 void OcclusionOracle::clear() {
   cache_.clear();
+  circle_pose_.reset();
   anchored_ = false;
 }
 
 void OcclusionOracle::clear(const SphericalPose& anchor) {
   cache_.clear();
+  circle_pose_.reset();
   anchor_ = anchor;
   anchored_ = true;
 }
@@ -174,6 +176,29 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
   return std::nullopt;
 }
 
+std::vector<Eigen::Vector2d> OcclusionOracle::unoccludedLatticeOffsetsWithin(
+    const SphericalPose& pose, double radius) {
+  const SphericalCamera& camera = environment_.camera();
+  const double offset_azimuth = azimuthChange(anchor_, pose) / spacing_rad_;
+  const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
+  const double span = radius / spacing_rad_;
+  std::vector<Eigen::Vector2d> offsets;
+  for (int a = static_cast<int>(std::floor(offset_azimuth - span));
+       a <= static_cast<int>(std::ceil(offset_azimuth + span)); ++a) {
+    for (int e = static_cast<int>(std::floor(offset_elevation - span));
+         e <= static_cast<int>(std::ceil(offset_elevation + span)); ++e) {
+      const LatticeIndex index{a, e};
+      const double elevation = latticePose(index).elevation_rad;
+      if (elevation < camera.lowestElevation() || elevation > camera.highestElevation()) continue;
+      const Eigen::Vector2d offset((a - offset_azimuth) * spacing_rad_,
+                                   (e - offset_elevation) * spacing_rad_);
+      if (offset.norm() > radius + 1e-12) continue;
+      if (solved(occlusionAtLattice(index))) offsets.push_back(offset);
+    }
+  }
+  return offsets;
+}
+
 std::optional<Action> OcclusionOracle::unoccludingStep(const SphericalPose& pose,
                                                        double elevation_low,
                                                        double elevation_high) {
@@ -183,6 +208,7 @@ std::optional<Action> OcclusionOracle::unoccludingStep(const SphericalPose& pose
   // edge, where most steps a few degrees off do not.
   const int directions = options_.circle_directions;
   unoccluding_.assign(static_cast<std::size_t>(directions), 0);
+  circle_pose_ = pose;
   int found = 0;
   for (int k = 0; k < directions; ++k) {
     const Action step = move(2.0 * M_PI * k / directions, step_rad_);
@@ -284,6 +310,39 @@ OracleAnswer OcclusionOracle::query(const SphericalPose& pose) {
   }
   answer.poses_rendered = renders_;
   return answer;
+}
+
+std::vector<std::uint8_t> OcclusionOracle::shortestFirstMoves(const SphericalPose& pose,
+                                                              const OracleAnswer& answer) {
+  if (answer.steps <= 0) return {};
+  const SphericalCamera& camera = environment_.camera();
+  const double elevation_low = camera.lowestElevation() - pose.elevation_rad;
+  const double elevation_high = camera.highestElevation() - pose.elevation_rad;
+  const int directions = options_.circle_directions;
+  std::vector<std::uint8_t> shortest(static_cast<std::size_t>(directions), 0);
+  if (answer.steps == 1) {
+    // The circle query() rendered for this pose, or rendered again.
+    const bool known = circle_pose_ && circle_pose_->azimuth_rad == pose.azimuth_rad &&
+                       circle_pose_->elevation_rad == pose.elevation_rad;
+    if (!known) unoccludingStep(pose, elevation_low, elevation_high);
+    std::copy(unoccluding_.begin(), unoccluding_.end(), shortest.begin());
+    return shortest;
+  }
+  const double reach_after = (answer.steps - 1) * step_rad_;  // from the landing pose
+  const std::vector<Eigen::Vector2d> targets =
+      unoccludedLatticeOffsetsWithin(pose, answer.steps * step_rad_);
+  for (int k = 0; k < directions; ++k) {
+    const Action step = move(2.0 * M_PI * k / directions, step_rad_);
+    if (step.d_elevation_rad < elevation_low || step.d_elevation_rad > elevation_high) continue;
+    const Eigen::Vector2d landing(step.d_azimuth_rad, step.d_elevation_rad);
+    for (const Eigen::Vector2d& target : targets) {
+      if ((target - landing).norm() <= reach_after * (1.0 + 1e-9)) {
+        shortest[static_cast<std::size_t>(k)] = 1;
+        break;
+      }
+    }
+  }
+  return shortest;
 }
 
 OracleAgent::OracleAgent(Environment& environment, const OracleOptions& options)

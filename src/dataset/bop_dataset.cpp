@@ -87,6 +87,12 @@ nlohmann::json toJson(const FrameLabels& labels) {
       {"descent_direction", directionJson(labels.descent)},
       {"oracle_steps", labels.has_oracle ? nlohmann::json(labels.oracle_steps) : nullptr},
       {"escape_direction", directionJson(labels.escape)}};
+  if (!labels.shortest_first_moves.empty()) {
+    // Character k: '1' when a move in direction 2 pi k / length is as short as the oracle's.
+    std::string moves;
+    for (const std::uint8_t shortest : labels.shortest_first_moves) moves += shortest ? '1' : '0';
+    json["shortest_first_moves"] = moves;
+  }
   if (labels.setup) json.update(labels.setup->toJson());
   return json;
 }
@@ -105,6 +111,14 @@ FrameLabels labelsFromJson(const nlohmann::json& json, int image_id) {
   labels.has_oracle = !json.at("oracle_steps").is_null();
   labels.oracle_steps = labels.has_oracle ? json.at("oracle_steps").get<int>() : -1;
   labels.escape = directionFromJson(json.at("escape_direction"));
+  if (json.contains("shortest_first_moves")) {
+    for (const char c : json.at("shortest_first_moves").get<std::string>()) {
+      if (c != '0' && c != '1') {
+        throw InvalidArgumentError("dataset: shortest_first_moves holds a character not 0 or 1");
+      }
+      labels.shortest_first_moves.push_back(c == '1' ? 1 : 0);
+    }
+  }
   if (json.contains("world")) labels.setup = SceneSetup::fromJson(json);
   return labels;
 }

@@ -137,14 +137,15 @@ FrameLabels viewLabels(Worker& worker, const RenderBuffers& buffers, const Spher
 void addOracleLabels(Worker& worker, FrameLabels& labels) {
   const auto start = std::chrono::steady_clock::now();
   const OracleAnswer answer = worker.oracle.query(labels.pose);
-  worker.oracle_seconds +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   labels.has_oracle = true;
   labels.oracle_steps = answer.steps;
   if (!answer.path.empty()) {
     labels.escape =
         directionOf(answer.path.front().d_azimuth_rad, answer.path.front().d_elevation_rad);
   }
+  labels.shortest_first_moves = worker.oracle.shortestFirstMoves(labels.pose, answer);
+  worker.oracle_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // The pose of every frame of a scene: the start view, then a random walk.
@@ -496,7 +497,9 @@ void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, 
     addOracleLabels(worker, labels);
     const bool same_escape =
         labels.escape.has_value() == stored.escape.has_value() &&
-        (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad));
+        (!labels.escape || close(labels.escape->angle_rad, stored.escape->angle_rad)) &&
+        (stored.shortest_first_moves.empty() ||  // written before they were recorded
+         labels.shortest_first_moves == stored.shortest_first_moves);
     if (labels.oracle_steps != stored.oracle_steps || !same_escape) {
       problem("oracle label differs (" + std::to_string(labels.oracle_steps) + " vs " +
               std::to_string(stored.oracle_steps) + " steps)");

@@ -30,7 +30,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(EpochMetrics, epoch, learning_ra
                                                 val_gradient_mse, val_escape_mse,
                                                 val_gradient_angle_deg, val_escape_angle_deg,
                                                 val_escape_bins_angle_deg, seconds,
-                                                images_per_second)
+                                                images_per_second, val_escape_shortest_share,
+                                                val_escape_bins_shortest_share)
 
 namespace {
 
@@ -46,6 +47,7 @@ Samples emptySamples(int64_t n, int size) {
   samples.escape = torch::zeros({n, 2});
   samples.escape_valid = torch::zeros({n});
   samples.oracle_steps = torch::full({n}, -1, torch::kInt);
+  samples.shortest_moves = torch::zeros({n, kShortestMoveDirections}, torch::kUInt8);
   return samples;
 }
 
@@ -82,6 +84,15 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     cv::threshold(mask_small, mask_out, mask_threshold, 1, cv::THRESH_BINARY);
     const dataset::FrameLabels& labels = frame.labels;
     samples.oracle_steps[i] = labels.oracle_steps;
+    if (!labels.shortest_first_moves.empty()) {
+      if (labels.shortest_first_moves.size() != kShortestMoveDirections) {
+        throw InvalidArgumentError(
+            "dataset: a frame records " + std::to_string(labels.shortest_first_moves.size()) +
+            " shortest-move directions, not " + std::to_string(kShortestMoveDirections));
+      }
+      std::copy(labels.shortest_first_moves.begin(), labels.shortest_first_moves.end(),
+                samples.shortest_moves[i].data_ptr<std::uint8_t>());
+    }
     if (labels.descent) {
       samples.gradient[i][0] = labels.descent->sin;
       samples.gradient[i][1] = labels.descent->cos;
@@ -176,6 +187,7 @@ torch::Tensor angleErrors(const torch::Tensor& prediction, const torch::Tensor& 
 
 struct Batch {
   torch::Tensor inputs, masks, gradient, gradient_valid, escape, escape_valid;
+  torch::Tensor shortest_moves;  // [B, n] float 0 / 1
 };
 
 // A batch in 32-bit floats, whatever the samples are held in.
@@ -185,7 +197,8 @@ Batch batchOf(const Samples& samples, const torch::Tensor& indices) {
           samples.gradient.index_select(0, indices),
           samples.gradient_valid.index_select(0, indices),
           samples.escape.index_select(0, indices),
-          samples.escape_valid.index_select(0, indices)};
+          samples.escape_valid.index_select(0, indices),
+          samples.shortest_moves.index_select(0, indices).to(torch::kFloat)};
 }
 
 // Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels), horizontal flips with
@@ -209,6 +222,8 @@ void augment(Batch& batch, double shift) {
   for (torch::Tensor* label : {&batch.gradient, &batch.escape}) {
     *label = torch::stack({label->select(1, 0), label->select(1, 1) * sign}, 1);
   }
+  batch.shortest_moves = torch::where(
+      flip.view({n, 1}), mirroredShortestMoves(batch.shortest_moves), batch.shortest_moves);
   shiftFrames(batch.inputs, batch.masks, shift);
 }
 
@@ -222,13 +237,14 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
   std::ofstream out(path);
   out << "epoch,learning_rate,train_loss,val_dice_loss,val_pixel_accuracy,val_iou,"
          "val_gradient_mse,val_escape_mse,val_gradient_angle_deg,val_escape_angle_deg,seconds,"
-         "images_per_second,val_escape_bins_angle_deg\n";
+         "images_per_second,val_escape_bins_angle_deg,val_escape_shortest_share,"
+         "val_escape_bins_shortest_share\n";
   for (const EpochMetrics& m : epochs) {
     out << m.epoch << ',' << m.learning_rate << ',' << m.train_loss << ',' << m.val_dice_loss << ','
         << m.val_pixel_accuracy << ',' << m.val_iou << ',' << m.val_gradient_mse << ','
         << m.val_escape_mse << ',' << m.val_gradient_angle_deg << ',' << m.val_escape_angle_deg
         << ',' << m.seconds << ',' << m.images_per_second << ',' << m.val_escape_bins_angle_deg
-        << '\n';
+        << ',' << m.val_escape_shortest_share << ',' << m.val_escape_bins_shortest_share << '\n';
   }
 }
 
@@ -400,6 +416,12 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                           "label that the escape-bins head's cross-entropy aims at (larger: "
                           "narrower)")
                    .range(0.1, 1000))
+          .add("escape_bin_targets", &O::escape_bin_targets,
+               OptionSpec("with --escape-bins: what the escape-bins head's cross-entropy aims "
+                          "at: label (a bump around the oracle's first move) or shortest_moves "
+                          "(every first move as short as the oracle's, the middles of their "
+                          "runs most, where the frames record them)")
+                   .choices({"label", "shortest_moves"}))
           .add("dice_weight", &O::dice_weight, OptionSpec("beta_1 (Eq. 12)").range(0, 1000))
           .add("direction_weight", &O::direction_weight,
                OptionSpec("beta_2, for each direction head (and the escape-bins head)")
@@ -439,6 +461,11 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
 void TrainingOptions::validate() const {
   network.validate();
   trainingOptionTable().check(*this);
+  if (escape_bin_targets == "shortest_moves" &&
+      (network.escape_bins == 0 || kShortestMoveDirections % network.escape_bins != 0)) {
+    throw InvalidArgumentError("escape_bin_targets shortest_moves needs --escape-bins dividing " +
+                               std::to_string(kShortestMoveDirections));
+  }
 }
 
 nlohmann::json TrainingOptions::toJson() const {
@@ -451,6 +478,8 @@ nlohmann::json TrainingOptions::toJson() const {
   if (negatives == 0.0) json.erase("negatives");
   if (mask_coverage == kPaperMaskCoverage) json.erase("mask_coverage");
   if (network.escape_bins == 0) json.erase("escape_bin_concentration");  // nothing it weighs
+  // Only when it is not the bump, so that earlier runs with the bins head keep their identity.
+  if (network.escape_bins == 0 || escape_bin_targets == "label") json.erase("escape_bin_targets");
   json["network"] = network.toJson();
   return json;
 }
@@ -459,9 +488,42 @@ nlohmann::json EpochMetrics::toJson() const {
   return *this;
 }
 
+torch::Tensor shortestMoveTargets(const torch::Tensor& shortest_moves, int bins) {
+  const int64_t directions = shortest_moves.size(1);
+  if (bins <= 0 || directions % bins != 0) {
+    throw InvalidArgumentError("shortest moves of " + std::to_string(directions) +
+                               " directions cannot be read at " + std::to_string(bins) + " bins");
+  }
+  const torch::Tensor at_bins =
+      shortest_moves.index_select(1, torch::arange(bins) * (directions / bins)).to(torch::kFloat);
+  // Erode the runs one bin at a time: a bin's weight is how many erosions it survives.
+  torch::Tensor weights = torch::zeros_like(at_bins);
+  torch::Tensor kept = at_bins;
+  for (int r = 0; r < (bins + 1) / 2; ++r) {
+    weights = weights + kept;
+    kept = kept * kept.roll(1, 1) * kept.roll(-1, 1);
+  }
+  return weights / weights.sum(1, true).clamp_min(1.0);
+}
+
+torch::Tensor mirroredShortestMoves(const torch::Tensor& shortest_moves) {
+  const int64_t n = shortest_moves.size(1);
+  return shortest_moves.index_select(1, (n / 2 - torch::arange(n) + n) % n);
+}
+
+torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tensor& shortest_moves) {
+  const int64_t n = shortest_moves.size(1);
+  const torch::Tensor angles = torch::atan2(directions.select(1, 0), directions.select(1, 1));
+  const torch::Tensor nearest =
+      (torch::round(angles * (n / (2.0 * M_PI))).to(torch::kLong) % n + n) % n;
+  return shortest_moves.gather(1, nearest.unsqueeze(1)).squeeze(1).to(torch::kFloat);
+}
+
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                      const std::string& direction_loss, torch::Tensor* escape_errors_deg) {
+                      const std::string& direction_loss, torch::Tensor* escape_errors_deg,
+                      torch::Tensor* escape_shortest) {
   double escape_bins_angle = 0.0;
+  double escape_shortest_count = 0.0, escape_bins_shortest_count = 0.0, shortest_count = 0.0;
   torch::NoGradGuard no_grad;
   const bool was_training = network->is_training();
   network->eval();
@@ -470,6 +532,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   double gradient_count = 0.0, escape_count = 0.0;
   const int64_t n = samples.size();
   if (escape_errors_deg) *escape_errors_deg = torch::full({n}, std::nan(""));
+  if (escape_shortest) *escape_shortest = torch::full({n}, std::nan(""));
   for (int64_t start = 0; start < n; start += batch_size) {
     const int64_t end = std::min<int64_t>(n, start + batch_size);
     const torch::Tensor indices = torch::arange(start, end);
@@ -495,17 +558,29 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
                           .item<double>();
     const torch::Tensor escape_errors = angleErrors(out.escape_direction, batch.escape);
     escape_angle += (escape_errors * batch.escape_valid).sum().item<double>();
+    // Frames that record shortest moves, and whether each head's move is one of them.
+    const torch::Tensor recorded = (batch.shortest_moves.sum(1) > 0.0).to(torch::kFloat);
+    const torch::Tensor shortest = isShortestMove(out.escape_direction, batch.shortest_moves);
+    shortest_count += recorded.sum().item<double>();
+    escape_shortest_count += (shortest * recorded).sum().item<double>();
+    // Per frame: of the head the predicted-escape agent moves by (the bins' choice, if any).
+    torch::Tensor agent_errors = escape_errors, agent_shortest = shortest;
+    if (out.escape_logits.defined()) {
+      const torch::Tensor chosen = escapeDirectionFromLogits(out.escape_logits);
+      agent_errors = angleErrors(chosen, batch.escape);
+      agent_shortest = isShortestMove(chosen, batch.shortest_moves);
+      escape_bins_angle += (agent_errors * batch.escape_valid).sum().item<double>();
+      escape_bins_shortest_count += (agent_shortest * recorded).sum().item<double>();
+    }
     if (escape_errors_deg) {
       escape_errors_deg->slice(0, start, end)
-          .copy_(torch::where(batch.escape_valid > 0.5, escape_errors,
-                              torch::full_like(escape_errors, std::nan(""))));
+          .copy_(torch::where(batch.escape_valid > 0.5, agent_errors,
+                              torch::full_like(agent_errors, std::nan(""))));
     }
-    if (out.escape_logits.defined()) {
-      escape_bins_angle +=
-          (angleErrors(escapeDirectionFromLogits(out.escape_logits), batch.escape) *
-           batch.escape_valid)
-              .sum()
-              .item<double>();
+    if (escape_shortest) {
+      escape_shortest->slice(0, start, end)
+          .copy_(torch::where(recorded > 0.5, agent_shortest,
+                              torch::full_like(agent_shortest, std::nan(""))));
     }
     gradient_count += batch.gradient_valid.sum().item<double>();
     escape_count += batch.escape_valid.sum().item<double>();
@@ -520,11 +595,14 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_gradient_angle_deg = gradient_angle / std::max(1.0, gradient_count);
   m.val_escape_angle_deg = escape_angle / std::max(1.0, escape_count);
   m.val_escape_bins_angle_deg = escape_bins_angle / std::max(1.0, escape_count);
+  m.val_escape_shortest_share = escape_shortest_count / std::max(1.0, shortest_count);
+  m.val_escape_bins_shortest_share = escape_bins_shortest_count / std::max(1.0, shortest_count);
   return m;
 }
 
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
-                                         const torch::Tensor& oracle_steps) {
+                                         const torch::Tensor& oracle_steps,
+                                         const torch::Tensor& shortest) {
   struct Bucket {
     const char* name;
     int first, last;  // oracle's steps, inclusive
@@ -549,6 +627,14 @@ nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
                     {"median_deg", errors.median().item<double>()},
                     {"share_over_45_deg", share(45.0)},
                     {"share_over_90_deg", share(90.0)}});
+    if (shortest.defined()) {
+      const torch::Tensor moves = shortest.masked_select(in);
+      const torch::Tensor recorded = moves.masked_select(moves.isnan().logical_not());
+      if (recorded.numel() > 0) {
+        rows.back()["frames_with_shortest_moves"] = recorded.numel();
+        rows.back()["share_shortest"] = recorded.mean().item<double>();
+      }
+    }
   }
   return rows;
 }
@@ -679,8 +765,13 @@ torch::Tensor batchLoss(const NetworkOutput& out, const Batch& batch,
            maskedMean(directionLoss(out.escape_direction, batch.escape, options.direction_loss),
                       batch.escape_valid));
   if (out.escape_logits.defined()) {
-    const torch::Tensor targets = escapeBinTargets(batch.escape, options.network.escape_bins,
-                                                   options.escape_bin_concentration);
+    torch::Tensor targets = escapeBinTargets(batch.escape, options.network.escape_bins,
+                                             options.escape_bin_concentration);
+    if (options.escape_bin_targets == "shortest_moves") {
+      const torch::Tensor shortest =
+          shortestMoveTargets(batch.shortest_moves, options.network.escape_bins);
+      targets = torch::where(shortest.sum(1, true) > 0.0, shortest, targets);
+    }
     const torch::Tensor cross_entropy =
         -(targets * torch::log_softmax(out.escape_logits, 1)).sum(1);
     loss = loss + options.direction_weight * maskedMean(cross_entropy, batch.escape_valid);

@@ -103,15 +103,20 @@ int benchInference(const std::string& model_path) {
 
 // escapeErrorsByOracleSteps()' rows as a table on stdout, after the check's summary line.
 void printEscapeErrors(const nlohmann::json& rows) {
-  std::cout << "escape error by the oracle's steps from the frame to a clear view:\n"
-            << "  steps       frames   mean   median   > 45 deg   > 90 deg\n";
+  std::cout << "escape error by the oracle's steps from the frame to a clear view (shortest: the "
+               "share of moves as short as the oracle's, where recorded):\n"
+            << "  steps       frames   mean   median   > 45 deg   > 90 deg   shortest\n";
   for (const nlohmann::json& row : rows) {
     std::cout << "  " << std::left << std::setw(10) << row["oracle_steps"].get<std::string>()
               << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
               << std::setprecision(1) << std::setw(7) << row["mean_deg"].get<double>()
               << std::setw(9) << row["median_deg"].get<double>() << std::setw(10)
               << 100.0 * row["share_over_45_deg"].get<double>() << " %" << std::setw(9)
-              << 100.0 * row["share_over_90_deg"].get<double>() << " %\n";
+              << 100.0 * row["share_over_90_deg"].get<double>() << " %";
+    if (row.contains("share_shortest")) {
+      std::cout << std::setw(9) << 100.0 * row["share_shortest"].get<double>() << " %";
+    }
+    std::cout << '\n';
   }
 }
 
@@ -128,9 +133,9 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
       learning::loadCheckFrames(data_dirs, model.network->config().inputFormat(), model.manifest);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
-  torch::Tensor escape_errors_deg;
+  torch::Tensor escape_errors_deg, escape_shortest;
   const learning::EpochMetrics m =
-      learning::evaluate(model.network, frames, 64, loss, &escape_errors_deg);
+      learning::evaluate(model.network, frames, 64, loss, &escape_errors_deg, &escape_shortest);
   nlohmann::json result = {{"model", model_path},
                            {"datasets", data_dirs},
                            {"frames", frames.size()},
@@ -140,7 +145,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     result["figures"].erase(unused);
   }
   result["escape_by_oracle_steps"] =
-      learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps);
+      learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps, escape_shortest);
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;

@@ -156,6 +156,53 @@ TEST(OracleTest, ATwoStepAnswerBendsTowardsTheLessOccludedCorner) {
   EXPECT_GE(clockwise, 1) << "no scene where the fixed side would have been the worse corner";
 }
 
+// The shortest first moves: one step from clear, exactly the circle's directions that land on a
+// clear view (rendered here); three steps or more, exactly the directions after which the oracle
+// (the same lattice) needs a step fewer (not more: it would be a shorter path); and the oracle's
+// own first move among them (or next to one: its heading lies between the circle's directions).
+TEST(OracleTest, ShortestFirstMovesAreTheMovesThatLandOneStepNearer) {
+  Environment environment(smallOptions());
+  const int directions = OracleOptions{}.circle_directions;
+  const double h = smallOptions().step_size_rad;
+  const auto landing = [&](const SphericalPose& pose, int k) {
+    const double angle = 2.0 * M_PI * k / directions;
+    return SphericalPose{pose.azimuth_rad + h * std::cos(angle),
+                         pose.elevation_rad + h * std::sin(angle)};
+  };
+  OcclusionOracle oracle(environment);
+  int one_step = 0, far = 0;
+  for (std::uint64_t seed = 0; seed < 12; ++seed) {
+    for (const int moves_left : {1, 3, 5}) {
+      const std::optional<SphericalPose> from =
+          poseBeforePathEnd(environment, oracle, seed, moves_left);
+      if (!from) continue;
+      const OracleAnswer answer = oracle.query(*from);
+      if (answer.steps != moves_left) continue;
+      const std::vector<std::uint8_t> shortest = oracle.shortestFirstMoves(*from, answer);
+      ASSERT_EQ(shortest.size(), static_cast<std::size_t>(directions));
+      const long nearest = std::lround(answer.firstDirectionRad() * directions / (2.0 * M_PI));
+      const int own = static_cast<int>((nearest % directions + directions) % directions);
+      EXPECT_TRUE(shortest[own] || shortest[(own + 1) % directions] ||
+                  shortest[(own + directions - 1) % directions])
+          << "seed " << seed << ": the oracle's own move";
+      for (int k = 0; k < directions; ++k) {
+        const SphericalPose there = landing(*from, k);
+        const int after = answer.steps == 1 ? -1 : oracle.query(there).steps;
+        const bool expected =
+            answer.steps == 1
+                ? environment.reward().solved(environment.viewFrom(there).occlusion.total_pixels)
+                : after >= 0 && after <= answer.steps - 1;
+        EXPECT_EQ(shortest[k] == 1, expected)
+            << "seed " << seed << ", " << answer.steps << " steps, direction " << k;
+      }
+      ++(answer.steps == 1 ? one_step : far);
+    }
+  }
+  EXPECT_GE(one_step, 2) << "too few scenes with a one-step pose";
+  EXPECT_GE(far, 3) << "too few scenes with a pose three or five steps away";
+  EXPECT_TRUE(oracle.shortestFirstMoves({0.0, 0.0}, OracleAnswer{}).empty()) << "no path, no move";
+}
+
 // Following the oracle's first move from each view: without error it ends clear about as soon as
 // the bound; an error costs steps, and the same seed gives the same episode.
 TEST(OracleTest, FollowingItsFirstMoveWithAnErrorCostsStepsRepeatably) {

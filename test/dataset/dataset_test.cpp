@@ -137,6 +137,26 @@ TEST(DatasetTest, LabelsAreKeyedByImageIdAndMatchTheirMasks) {
                   d.at("angle_rad").get<double>(), 1e-12);
     }
     EXPECT_EQ(label.at("oracle_steps").get<int>() == 0, label.at("occlusion_px").get<int>() == 0);
+    // A path's shortest first moves, one character per direction of the oracle's circle, at
+    // least the oracle's own; none without a path.
+    const bool has_path = label.at("oracle_steps").get<int>() > 0;
+    ASSERT_EQ(label.contains("shortest_first_moves"), has_path) << "image " << key;
+    if (has_path) {
+      const std::string moves = label.at("shortest_first_moves").get<std::string>();
+      EXPECT_EQ(moves.size(), 64u);
+      EXPECT_EQ(moves.find_first_not_of("01"), std::string::npos);
+      EXPECT_NE(moves.find('1'), std::string::npos);
+    }
+  }
+  // The reader gives them back as they were written.
+  const BopDataset data(tinyDataset());
+  for (const Frame& frame : data.frames()) {
+    if (frame.scene_index != 0) continue;
+    const nlohmann::json& label = labels.at(std::to_string(frame.labels.image_id));
+    std::string moves;
+    for (const std::uint8_t shortest : frame.labels.shortest_first_moves)
+      moves += shortest ? '1' : '0';
+    EXPECT_EQ(moves, label.value("shortest_first_moves", ""));
   }
   // Frame 0 is the scene's start view; later frames moved by whole steps.
   EXPECT_LT(std::abs(labels.at("0").at("azimuth_rad").get<double>()), M_PI / 32 + 1e-12);
@@ -187,9 +207,19 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
   test_seeds.first_seed = kFirstTestSeed - 1;
   EXPECT_THROW(generateDataset(dir + "_test_seeds", test_seeds), InvalidArgumentError);
 
-  // A tampered label fails the audit.
+  // A tampered label fails the audit: a shortest first move taken away, then an occlusion.
   const fs::path labels_path = fs::path(dir) / "train" / "000000" / "scene_labels.json";
   nlohmann::json labels = readJson(labels_path);
+  const nlohmann::json untouched = labels;
+  for (auto& [key, label] : labels.items()) {
+    if (!label.contains("shortest_first_moves")) continue;
+    std::string moves = label["shortest_first_moves"].get<std::string>();
+    moves[moves.find('1')] = '0';
+    label["shortest_first_moves"] = moves;
+  }
+  std::ofstream(labels_path) << labels.dump();
+  EXPECT_GT(auditDataset(dir, 24).failures, 0);
+  labels = untouched;
   for (auto& [key, label] : labels.items())
     label["occlusion_px"] = label["occlusion_px"].get<int>() + 1;
   std::ofstream(labels_path) << labels.dump();

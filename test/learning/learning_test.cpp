@@ -635,6 +635,106 @@ TEST(LearningTest, EscapeErrorsAreGroupedByTheOraclesSteps) {
   EXPECT_EQ(by_steps.at("all")["frames"], 5);
   EXPECT_DOUBLE_EQ(by_steps.at("all")["mean_deg"].get<double>(), 72.0);
   EXPECT_DOUBLE_EQ(by_steps.at("all")["median_deg"].get<double>(), 50.0);
+  EXPECT_FALSE(by_steps.at("all").contains("share_shortest")) << "not asked for";
+
+  // With whether each move was shortest (NaN: not recorded), the share per row.
+  const torch::Tensor shortest = torch::tensor({1.0f, 0.0f, NAN, NAN, 1.0f, 0.0f});
+  std::map<std::string, nlohmann::json> with;
+  for (const nlohmann::json& row : escapeErrorsByOracleSteps(errors, steps, shortest))
+    with[row["oracle_steps"]] = row;
+  EXPECT_DOUBLE_EQ(with.at("1")["share_shortest"].get<double>(), 0.5);
+  EXPECT_FALSE(with.at("2").contains("share_shortest")) << "none recorded";
+  EXPECT_EQ(with.at("all")["frames_with_shortest_moves"], 4);
+  EXPECT_DOUBLE_EQ(with.at("all")["share_shortest"].get<double>(), 0.5);
+}
+
+// The escape-bins head's targets from every shortest first move: each weighted by its depth in
+// its run of shortest moves, read at the bins' directions; the check of a move against them; and
+// the mirror that a flipped frame's moves take, which agrees with the flipped label.
+TEST(LearningTest, ShortestMoveTargetsWeighTheMiddlesOfTheirRuns) {
+  torch::Tensor moves = torch::zeros({4, 8});
+  moves[0].slice(0, 1, 4).fill_(1.0);  // directions 1-3: depths 1, 2, 1
+  moves[1][7] = moves[1][0] = 1.0;     // a run across direction 0: 1, 1
+  moves[1][4] = 1.0;                   // and a lone one
+  moves[2].fill_(1.0);                 // the whole circle: evenly
+  // moves[3]: none
+  const torch::Tensor targets = shortestMoveTargets(moves, 8);
+  const torch::Tensor expected =
+      torch::tensor({{0.f, .25f, .5f, .25f, 0.f, 0.f, 0.f, 0.f},
+                     {1.f / 3, 0.f, 0.f, 0.f, 1.f / 3, 0.f, 0.f, 1.f / 3},
+                     {.125f, .125f, .125f, .125f, .125f, .125f, .125f, .125f},
+                     {0.f, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f, 0.f}});
+  EXPECT_TRUE(torch::allclose(targets, expected, 1e-6, 1e-6)) << targets;
+  // At 4 bins, directions 0, 2, 4, 6: row 0 keeps direction 2 alone.
+  const torch::Tensor fewer = shortestMoveTargets(moves, 4);
+  EXPECT_TRUE(torch::allclose(fewer[0], torch::tensor({0.f, 1.f, 0.f, 0.f}))) << fewer;
+  EXPECT_THROW(shortestMoveTargets(moves, 3), InvalidArgumentError);
+
+  // A move is shortest when the circle's direction nearest it is.
+  const auto unit = [](double angle) {
+    return torch::tensor(
+        {{static_cast<float>(std::sin(angle)), static_cast<float>(std::cos(angle))}});
+  };
+  const double step = 2.0 * M_PI / 8;
+  EXPECT_EQ(isShortestMove(unit(2.4 * step), moves.slice(0, 0, 1)).item<float>(), 1.0f);
+  EXPECT_EQ(isShortestMove(unit(3.6 * step), moves.slice(0, 0, 1)).item<float>(), 0.0f);
+  EXPECT_EQ(isShortestMove(unit(-0.9 * step), moves.slice(0, 1, 2)).item<float>(), 1.0f);
+
+  // Flipping the frame maps the label (sin, cos) to (sin, -cos); its moves mirror alike.
+  const torch::Tensor mirrored = mirroredShortestMoves(moves);
+  for (int k = 0; k < 8; ++k) {
+    const torch::Tensor label = unit(k * step);
+    const torch::Tensor flipped = torch::stack({label.select(1, 0), -label.select(1, 1)}, 1);
+    for (int row = 0; row < 4; ++row) {
+      EXPECT_EQ(isShortestMove(flipped, mirrored.slice(0, row, row + 1)).item<float>(),
+                moves[row][k].item<float>())
+          << "row " << row << ", direction " << k;
+    }
+  }
+}
+
+// A run whose escape-bins head aims at every shortest move: the option is checked, recorded only
+// when it is not the default, and the run trains and reports which share of its moves is shortest.
+TEST(LearningTest, AnEscapeBinsHeadTrainsOnEveryShortestMove) {
+  TrainingOptions options = tinyTraining(1);
+  options.escape_bin_targets = "shortest_moves";
+  EXPECT_THROW(options.validate(), InvalidArgumentError) << "no bins head";
+  options.network.escape_bins = 12;
+  EXPECT_THROW(options.validate(), InvalidArgumentError) << "12 does not divide 64";
+  options.network.escape_bins = 16;
+  EXPECT_NO_THROW(options.validate());
+  EXPECT_EQ(options.toJson().value("escape_bin_targets", ""), "shortest_moves");
+  TrainingOptions bump = options;
+  bump.escape_bin_targets = "label";
+  EXPECT_FALSE(bump.toJson().contains("escape_bin_targets")) << "earlier runs' identity";
+  options.escape_bin_targets = "nearest";
+  EXPECT_THROW(options.validate(), InvalidArgumentError);
+  options.escape_bin_targets = "shortest_moves";
+
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_shortest_data");
+  dataset::generateDataset(data_dir.string(), tinyDataset(4, 4, 0.25));
+  const TrainingData data = loadTrainingData(data_dir.string(), 32);
+  const torch::Tensor recorded = data.train.shortest_moves.sum(1) > 0;
+  EXPECT_TRUE(torch::equal(recorded, data.train.escape_valid > 0.5))
+      << "frames with a path record their shortest moves";
+  options.augment = true;  // flips mirror the moves
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_shortest_run");
+  const std::vector<EpochMetrics> epochs = train(data, options, run_dir.string(), {});
+  ASSERT_EQ(epochs.size(), 1u);
+  EXPECT_TRUE(std::isfinite(epochs[0].train_loss));
+  for (const double share :
+       {epochs[0].val_escape_shortest_share, epochs[0].val_escape_bins_shortest_share}) {
+    EXPECT_GE(share, 0.0);
+    EXPECT_LE(share, 1.0);
+  }
+  // The per-frame check agrees with the share.
+  LoadedModel model = loadModel((run_dir / "best.pt").string());
+  torch::Tensor errors, shortest;
+  const EpochMetrics again = evaluate(model.network, data.validation, 4, "mse", &errors, &shortest);
+  const torch::Tensor known = shortest.masked_select(shortest.isnan().logical_not());
+  ASSERT_GT(known.numel(), 0);
+  EXPECT_NEAR(known.mean().item<double>(), again.val_escape_bins_shortest_share, 1e-6);
+  for (const fs::path& dir : {data_dir, run_dir}) fs::remove_all(dir);
 }
 
 // A model whose input clears floors and walls trains on a dataset's frames: each is cleared with

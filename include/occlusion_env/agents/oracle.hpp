@@ -63,6 +63,16 @@ class OcclusionOracle {
   /// The answer for `pose` in the environment's current scene (the episode is unchanged).
   OracleAnswer query(const SphericalPose& pose);
 
+  /// Every first move that starts a path as short as `answer`'s (query(pose)'s), one entry per
+  /// direction 2 pi k / circle_directions of the one-step circle (1: such a move); empty for 0 or
+  /// -1 steps. One step: the directions that land on an unoccluded view. k >= 2 steps: those that
+  /// land within (k - 1) h of an unoccluded lattice pose (for k = 2, within h: the landing pose's
+  /// own circle is not rendered, so that is an estimate). The oracle's own first move lies in
+  /// that set or at its edge (two steps: the bend is the edge of the arc of moves within h).
+  /// Renders the lattice poses within k h that query() did not (about 12 (2k - 1) at s = h / 2).
+  std::vector<std::uint8_t> shortestFirstMoves(const SphericalPose& pose,
+                                               const OracleAnswer& answer);
+
  private:
   using LatticeIndex = std::pair<int, int>;
   std::int64_t occlusionAt(const SphericalPose& pose);
@@ -73,6 +83,10 @@ class OcclusionOracle {
   // The offset [rad] (azimuth, elevation) from `pose` to the nearest unoccluded lattice pose within
   // max_steps steps and the elevation limit; none when there is none.
   std::optional<Eigen::Vector2d> nearestUnoccludedLatticeOffset(const SphericalPose& pose);
+  // The offsets [rad] from `pose` to every unoccluded lattice pose within `radius` [rad] and the
+  // elevation limit.
+  std::vector<Eigen::Vector2d> unoccludedLatticeOffsetsWithin(const SphericalPose& pose,
+                                                              double radius);
   // Two steps from a clear view: the side of the heading to `target_offset` that the first move
   // bends to, +1 (counter-clockwise in the (azimuth, elevation) plane) or -1: the one whose
   // corner shows fewer occluded pixels (two renders).
@@ -91,7 +105,8 @@ class OcclusionOracle {
   bool anchored_ = false;
   SphericalPose anchor_;
   std::map<LatticeIndex, std::int64_t> cache_;
-  std::vector<char> unoccluding_;  // per circle direction, unoccludingStep()'s
+  std::vector<char> unoccluding_;             // per circle direction, unoccludingStep()'s
+  std::optional<SphericalPose> circle_pose_;  // where unoccluding_ was found (none: nowhere yet)
   int renders_ = 0;
 };
 

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/geometry/camera.hpp"
@@ -41,6 +42,10 @@ struct FrameLabels {
   int oracle_steps = -1;             // fewest steps to an unoccluded view; -1: none within reach
                                      // or not computed (has_oracle)
   std::optional<Direction> escape;   // the oracle's first step; none for 0 or -1 steps
+  /// Every first move as short as the oracle's (OcclusionOracle::shortestFirstMoves): 1 for
+  /// direction 2 pi k / size() of the one-step circle; empty for 0 or -1 steps and in datasets
+  /// written before it was recorded.
+  std::vector<std::uint8_t> shortest_first_moves;
   bool has_oracle = false;
   /// The frame's world, depth sensor and camera (radius, field of view, intrinsics, scene scale);
   /// none in datasets written before they were recorded.

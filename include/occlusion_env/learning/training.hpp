@@ -17,6 +17,10 @@
 namespace occlusion_env {
 namespace learning {
 
+/// Directions of the one-step circle in a frame's shortest first moves (the oracle's default
+/// circle_directions, which the dataset tools use).
+constexpr int kShortestMoveDirections = 64;
+
 /// The frames of a dataset at the network's resolution.
 struct Samples {
   // Held compactly, so that 100,000 frames fit in memory at 96 px: the inputs as 16-bit floats
@@ -29,6 +33,9 @@ struct Samples {
   torch::Tensor escape;          // [N, 2] (sin, cos) of the oracle's first step
   torch::Tensor escape_valid;    // [N] 0 / 1
   torch::Tensor oracle_steps;    // [N] int32: the label's fewest steps to a clear view, -1 none
+  // [N, kShortestMoveDirections] uint8: the first moves as short as the oracle's
+  // (FrameLabels::shortest_first_moves); all 0 where a frame has none recorded.
+  torch::Tensor shortest_moves;
   int64_t size() const { return inputs.defined() ? inputs.size(0) : 0; }
 };
 
@@ -84,6 +91,10 @@ struct TrainingOptions {
   // With network.escape_bins: the escape-bins head's cross-entropy (weighted by
   // direction_weight) is against a von Mises bump of this concentration around the label.
   double escape_bin_concentration = 8.0;
+  // With network.escape_bins, what that cross-entropy aims at: "label" (the bump above) or
+  // "shortest_moves" (every first move as short as the oracle's, shortestMoveTargets(), where a
+  // frame records them; the bump elsewhere).
+  std::string escape_bin_targets = "label";
   bool augment = true;  // colour jitter and horizontal flips
   // With augment: each frame moved by up to this fraction of its size in x and y (uniform, whole
   // pixels), labels unchanged, the uncovered border the void's (black, no depth): an estimate that
@@ -135,25 +146,50 @@ struct EpochMetrics {
   double val_gradient_angle_deg = 0.0;  // mean angular error of the normalised prediction
   double val_escape_angle_deg = 0.0;
   double val_escape_bins_angle_deg = 0.0;  // of the escape-bins head's choice; 0 without it
+  // The share of the frames with recorded shortest first moves whose move (the circle's
+  // direction nearest the head's) is one of them: of the escape head and the escape-bins head
+  // (0 without it). 0 when no frame records them.
+  double val_escape_shortest_share = 0.0;
+  double val_escape_bins_shortest_share = 0.0;
   double seconds = 0.0;
   double images_per_second = 0.0;  // training throughput
 
   nlohmann::json toJson() const;
 };
 
-/// Validation figures of `network` on `samples` (eval mode, no gradients); with
-/// `escape_errors_deg`, also the escape head's angular error on each frame [deg] there, NaN where
-/// a frame has no escape label.
+/// Validation figures of `network` on `samples` (eval mode, no gradients). Per frame, of the head
+/// the predicted-escape agent moves by (the escape-bins head's choice when there is one, else the
+/// escape head): with `escape_errors_deg`, its angular error [deg], NaN where a frame has no
+/// escape label; with `escape_shortest`, whether its move is one of the frame's shortest first
+/// moves (1 / 0), NaN where it records none.
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                      const std::string& direction_loss,
-                      torch::Tensor* escape_errors_deg = nullptr);
+                      const std::string& direction_loss, torch::Tensor* escape_errors_deg = nullptr,
+                      torch::Tensor* escape_shortest = nullptr);
+
+/// Targets [B, bins] of the escape-bins head from shortest first moves [B, n] (0 / 1, n a
+/// multiple of bins; bin k is direction k n / bins): each shortest move weighted by how many
+/// directions away the nearest move that is not shortest lies (the middle of a run of shortest
+/// moves most, its ends least; a whole circle evenly), normalised to sum 1. Rows without any
+/// shortest move at the bins' directions are all 0.
+torch::Tensor shortestMoveTargets(const torch::Tensor& shortest_moves, int bins);
+
+/// The shortest first moves [B, n] of the horizontally flipped frames: direction k of the circle
+/// mirrors to pi - theta_k, direction n / 2 - k (dataset/labels.hpp).
+torch::Tensor mirroredShortestMoves(const torch::Tensor& shortest_moves);
+
+/// Whether the circle's direction nearest each of `directions` [B, 2] (sin, cos) is one of the
+/// row's `shortest_moves` [B, n]: [B] float 1 / 0.
+torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tensor& shortest_moves);
 
 /// `errors_deg` (evaluate()'s escape errors) by how far each frame is from a clear view
 /// (`oracle_steps`): rows for 1, 2, 3, 4-5, 6-8 and 9 or more steps and "all", each with frames,
 /// mean_deg, median_deg, share_over_45_deg and share_over_90_deg; frames without an escape label
 /// (NaN) are left out, and so are rows without frames. Where the escape agent loses its steps.
+/// With `shortest` (evaluate()'s escape_shortest), rows also give share_shortest: the share of
+/// their frames that record shortest moves whose move is one of them.
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
-                                         const torch::Tensor& oracle_steps);
+                                         const torch::Tensor& oracle_steps,
+                                         const torch::Tensor& shortest = {});
 
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
