@@ -876,6 +876,12 @@ std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions&
     throw InvalidArgumentError("the data is at " + std::to_string(data.train.inputs.size(2)) +
                                " px, the network at " + std::to_string(expected_size));
   }
+  if (options.escape_bin_targets == "shortest_moves" &&
+      !(data.train.shortest_moves.sum(1) > 0).any().item<bool>()) {
+    throw InvalidArgumentError(
+        "escape_bin_targets shortest_moves: no training frame records its shortest first moves "
+        "(datasets labelled before 2026-11-29 do not: relabel them with the same command)");
+  }
   setLibtorchThreads(options.threads);
   fs::create_directories(run_dir);
   const RunFiles files(run_dir);

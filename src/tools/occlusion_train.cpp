@@ -217,6 +217,12 @@ int train(const Arguments& args) {
   std::cerr << "occlusion_train: " << data.train.size() << " training and "
             << data.validation.size() << " validation frames; " << options.network.variant << ", "
             << options.epochs << " epochs, checkpoints in " << args.run_dir << "\n";
+  if (options.escape_bin_targets == "shortest_moves") {
+    std::cerr << "occlusion_train: " << (data.train.shortest_moves.sum(1) > 0).sum().item<int64_t>()
+              << " of " << data.train.size()
+              << " training frames record their shortest first moves (the others: the bump "
+                 "around the label)\n";
+  }
   std::unique_ptr<eval::ProgressBar> bar;
   const auto history =
       learning::train(data, options, args.run_dir, progressReport(options.epochs, bar));

@@ -717,8 +717,11 @@ TEST(LearningTest, AnEscapeBinsHeadTrainsOnEveryShortestMove) {
   const torch::Tensor recorded = data.train.shortest_moves.sum(1) > 0;
   EXPECT_TRUE(torch::equal(recorded, data.train.escape_valid > 0.5))
       << "frames with a path record their shortest moves";
-  options.augment = true;  // flips mirror the moves
   const fs::path run_dir = temporaryDir("occlusion_env_learning_shortest_run");
+  TrainingData unrecorded = data;  // as datasets labelled before the moves were recorded
+  unrecorded.train.shortest_moves = torch::zeros_like(data.train.shortest_moves);
+  EXPECT_THROW(train(unrecorded, options, run_dir.string(), {}), InvalidArgumentError);
+  options.augment = true;  // flips mirror the moves
   const std::vector<EpochMetrics> epochs = train(data, options, run_dir.string(), {});
   ASSERT_EQ(epochs.size(), 1u);
   EXPECT_TRUE(std::isfinite(epochs[0].train_loss));

@@ -199,7 +199,9 @@ struct TrainingCallbacks {
 /// Trains in `run_dir`: checkpoint.pt after every epoch (and resumes from it when present and
 /// made with the same options and data), log.csv, best.pt/best.json (by validation IoU), and
 /// with keep_epochs epoch_<k>.pt/.json for every epoch. Returns
-/// the metrics of every epoch (resumed ones included, from the log).
+/// the metrics of every epoch (resumed ones included, from the log). Throws InvalidArgumentError
+/// for bad options, data at another size than the network's, and escape_bin_targets
+/// shortest_moves on training frames none of which records its shortest first moves.
 std::vector<EpochMetrics> train(const TrainingData& data, const TrainingOptions& options,
                                 const std::string& run_dir,
                                 const TrainingCallbacks& callbacks = {});
