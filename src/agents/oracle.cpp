@@ -115,6 +115,22 @@ SphericalPose OcclusionOracle::latticePose(const LatticeIndex& index) const {
           anchor_.elevation_rad + index.second * spacing_rad_};
 }
 
+Eigen::Vector2d OcclusionOracle::latticeCoordinates(const SphericalPose& pose) const {
+  return {azimuthChange(anchor_, pose) / spacing_rad_,
+          (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_};
+}
+
+Eigen::Vector2d OcclusionOracle::latticeOffset(const LatticeIndex& index,
+                                               const Eigen::Vector2d& from) const {
+  return {(index.first - from.x()) * spacing_rad_, (index.second - from.y()) * spacing_rad_};
+}
+
+bool OcclusionOracle::withinElevationLimits(const LatticeIndex& index) const {
+  const SphericalCamera& camera = environment_.camera();
+  const double elevation = latticePose(index).elevation_rad;
+  return elevation >= camera.lowestElevation() && elevation <= camera.highestElevation();
+}
+
 std::int64_t OcclusionOracle::occlusionAtLattice(const LatticeIndex& index) {
   const auto found = cache_.find(index);
   if (found != cache_.end()) return found->second;
@@ -132,23 +148,17 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
   // Lattice points in order of their distance from `pose`. Points in Chebyshev ring r around the
   // nearest lattice point lie at least (r - 0.5) s away, so once ring r is queued every point
   // nearer than (r + 0.5) s is known.
-  const SphericalCamera& camera = environment_.camera();
-  const double offset_azimuth = azimuthChange(anchor_, pose) / spacing_rad_;
-  const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
-  const int center_a = static_cast<int>(std::lround(offset_azimuth));
-  const int center_e = static_cast<int>(std::lround(offset_elevation));
+  const Eigen::Vector2d at = latticeCoordinates(pose);
+  const int center_a = static_cast<int>(std::lround(at.x()));
+  const int center_e = static_cast<int>(std::lround(at.y()));
   const double max_distance = options_.max_steps * step_rad_;
   const int max_ring = static_cast<int>(std::ceil(max_distance / spacing_rad_)) + 1;
   using Candidate = std::pair<double, LatticeIndex>;  // distance [rad], index
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
-  const auto offsetOf = [&](const LatticeIndex& index) {
-    return Eigen::Vector2d((index.first - offset_azimuth) * spacing_rad_,
-                           (index.second - offset_elevation) * spacing_rad_);
-  };
+  const auto offsetOf = [&](const LatticeIndex& index) { return latticeOffset(index, at); };
   const auto push = [&](int a, int e) {
     const LatticeIndex index{a, e};
-    const double elevation = latticePose(index).elevation_rad;
-    if (elevation < camera.lowestElevation() || elevation > camera.highestElevation()) return;
+    if (!withinElevationLimits(index)) return;
     const double distance = offsetOf(index).norm();
     if (distance > 0.0 && distance <= max_distance + 1e-12) queue.push({distance, index});
   };
@@ -178,20 +188,16 @@ std::optional<Eigen::Vector2d> OcclusionOracle::nearestUnoccludedLatticeOffset(
 
 std::vector<Eigen::Vector2d> OcclusionOracle::unoccludedLatticeOffsetsWithin(
     const SphericalPose& pose, double radius) {
-  const SphericalCamera& camera = environment_.camera();
-  const double offset_azimuth = azimuthChange(anchor_, pose) / spacing_rad_;
-  const double offset_elevation = (pose.elevation_rad - anchor_.elevation_rad) / spacing_rad_;
+  const Eigen::Vector2d at = latticeCoordinates(pose);
   const double span = radius / spacing_rad_;
   std::vector<Eigen::Vector2d> offsets;
-  for (int a = static_cast<int>(std::floor(offset_azimuth - span));
-       a <= static_cast<int>(std::ceil(offset_azimuth + span)); ++a) {
-    for (int e = static_cast<int>(std::floor(offset_elevation - span));
-         e <= static_cast<int>(std::ceil(offset_elevation + span)); ++e) {
+  for (int a = static_cast<int>(std::floor(at.x() - span));
+       a <= static_cast<int>(std::ceil(at.x() + span)); ++a) {
+    for (int e = static_cast<int>(std::floor(at.y() - span));
+         e <= static_cast<int>(std::ceil(at.y() + span)); ++e) {
       const LatticeIndex index{a, e};
-      const double elevation = latticePose(index).elevation_rad;
-      if (elevation < camera.lowestElevation() || elevation > camera.highestElevation()) continue;
-      const Eigen::Vector2d offset((a - offset_azimuth) * spacing_rad_,
-                                   (e - offset_elevation) * spacing_rad_);
+      if (!withinElevationLimits(index)) continue;
+      const Eigen::Vector2d offset = latticeOffset(index, at);
       if (offset.norm() > radius + 1e-12) continue;
       if (solved(occlusionAtLattice(index))) offsets.push_back(offset);
     }

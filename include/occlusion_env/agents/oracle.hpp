@@ -78,6 +78,11 @@ class OcclusionOracle {
   std::int64_t occlusionAt(const SphericalPose& pose);
   std::int64_t occlusionAtLattice(const LatticeIndex& index);
   SphericalPose latticePose(const LatticeIndex& index) const;
+  // `pose` in lattice units from the anchor (azimuth, elevation).
+  Eigen::Vector2d latticeCoordinates(const SphericalPose& pose) const;
+  // The offset [rad] from lattice coordinates `from` to the lattice point `index`.
+  Eigen::Vector2d latticeOffset(const LatticeIndex& index, const Eigen::Vector2d& from) const;
+  bool withinElevationLimits(const LatticeIndex& index) const;
   // Whether `pixels` of occlusion count as unoccluded (the environment's success threshold).
   bool solved(std::int64_t pixels) const;
   // The offset [rad] (azimuth, elevation) from `pose` to the nearest unoccluded lattice pose within
