@@ -166,7 +166,12 @@ void Environment::placeScene(const Scene& scene, const Room* room) {
     placed.push_back(mesh);
   }
   renderer_->setScene(placed);
-  if (!room) return;
+  // The void: nothing around the objects and the default light, also after a room on this
+  // renderer (a reset keeps the renderer while the camera's intrinsics stay the same).
+  if (!room) {
+    renderer_->setBackground(SceneBackground{});
+    return;
+  }
   SceneBackground background = room->background();
   if (scene.scale != 1.0) {
     for (auto* meshes : {&background.one_sided, &background.two_sided}) {

@@ -178,5 +178,33 @@ TEST(RoomTest, SameSeedSameRoomAndFramesTheVoidStaysBlack) {
   EXPECT_THROW(Environment{void_options}, InvalidArgumentError);
 }
 
+// world: random draws the world per scene with one camera, so one renderer serves a room scene
+// and then a void one: the void scene must look as it does on a renderer that never held a room
+// (no floor, walls, clutter or the room's light left behind).
+TEST(RoomTest, AVoidSceneAfterARoomSceneShowsNoRoom) {
+  EnvironmentOptions options = roomOptions();
+  options.world.world = "random";
+  Environment drawn(options);
+  std::uint64_t room_seed = 0, void_seed = 0;
+  bool have_room = false, have_void = false;
+  for (std::uint64_t seed = 1; seed < 64 && !(have_room && have_void); ++seed) {
+    drawn.reset(seed);
+    if (drawn.room() && !have_room) room_seed = seed, have_room = true;
+    if (!drawn.room() && !have_void) void_seed = seed, have_void = true;
+  }
+  ASSERT_TRUE(have_room && have_void);
+  Environment fresh(options);
+  fresh.reset(void_seed);
+  drawn.reset(room_seed);
+  ASSERT_NE(drawn.room(), nullptr);
+  drawn.reset(void_seed);
+  EXPECT_EQ(roomShare(drawn.renderBuffers()), 0.0);
+  EXPECT_TRUE(sameBytes(drawn.observation().rgb, fresh.observation().rgb));
+  EXPECT_TRUE(sameBytes(drawn.observation().depth, fresh.observation().depth));
+  drawn.step({1.0, 0.0});
+  fresh.step({1.0, 0.0});
+  EXPECT_TRUE(sameBytes(drawn.observation().rgb, fresh.observation().rgb));
+}
+
 }  // namespace
 }  // namespace occlusion_env
