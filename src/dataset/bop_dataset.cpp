@@ -145,8 +145,10 @@ BopDataset::BopDataset(const std::string& dir) : dir_(dir) {
         frame.validation = scene.at("split").get<std::string>() == "val";
         const int image_id = std::stoi(key);
         frame.labels = labelsFromJson(value, image_id);
-        if (cameras.contains(key))
+        if (cameras.contains(key)) {
           frame.intrinsics = intrinsicsFromJson(cameras.at(key), value, size);
+          frame.depth_scale_mm = cameras.at(key).value("depth_scale", kUnrecordedDepthScaleMm);
+        }
         frame.scene_folder = folder;
         frame.rgb_path = folder + "/rgb/" + idName(image_id) + ".png";
         frame.depth_path = folder + "/depth/" + idName(image_id) + ".png";
@@ -170,7 +172,7 @@ cv::Mat BopDataset::readRgb(const Frame& frame) const {
 cv::Mat BopDataset::readDepthMeters(const Frame& frame) const {
   const cv::Mat raw = readImage(frame.depth_path, cv::IMREAD_UNCHANGED, CV_16UC1);
   cv::Mat depth(raw.size(), CV_32FC1);
-  const float scale = static_cast<float>(kDepthScaleMm / 1000.0);
+  const float scale = static_cast<float>(frame.depth_scale_mm / 1000.0);
   for (int row = 0; row < raw.rows; ++row) {
     const std::uint16_t* in = raw.ptr<std::uint16_t>(row);
     float* out = depth.ptr<float>(row);

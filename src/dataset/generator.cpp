@@ -319,17 +319,11 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
       {"scenes", scenes}};
 }
 
-// The environment's camera-randomisation options by their names (what a randomised set records).
+// The camera-randomisation ranges by their names, the environment's and the dataset's (a
+// randomised set records them as camera_randomization, which environmentOptionsOf applies).
 const std::vector<std::string> kCameraRandomizationKeys = {
     "radius_range", "field_of_view_range", "resolution_scale_range", "focal_length_jitter",
     "principal_point_jitter"};
-
-nlohmann::json cameraRandomizationJson(const EnvironmentOptions& options) {
-  const nlohmann::json all = environmentOptionTable().toJson(options);
-  nlohmann::json json = nlohmann::json::object();
-  for (const std::string& key : kCameraRandomizationKeys) json[key] = all.at(key);
-  return json;
-}
 
 }  // namespace
 
@@ -375,6 +369,9 @@ const OptionTable<DatasetOptions>& datasetOptionTable() {
              OptionSpec("the oracle's labels (leaving them out is much faster)")
                  .negatedFlag("--no-oracle"));
     addSceneRandomizationOptions(options, &O::world, &O::depth_sensor, &O::randomize);
+    addCameraRandomizationRanges(
+        options, [](O& o) -> CameraRandomization& { return o.camera_ranges; },
+        "with --randomize: ");
     options
         .add("validation_fraction", &O::validation_fraction,
              OptionSpec("fraction of whole scenes for validation")
@@ -407,12 +404,35 @@ nlohmann::json DatasetOptions::definingJson() const {
     json.erase("first_elevation_min_rad");
     json.erase("first_elevation_max_rad");
   }
-  if (randomize) json["camera_randomization"] = cameraRandomizationJson(EnvironmentOptions());
+  // The camera's ranges under one key, and only where they are drawn.
+  nlohmann::json ranges = nlohmann::json::object();
+  for (const std::string& key : kCameraRandomizationKeys) {
+    ranges[key] = json.at(key);
+    json.erase(key);
+  }
+  if (randomize) json["camera_randomization"] = ranges;
   return json;
 }
 
 void DatasetOptions::validate() const {
   datasetOptionTable().check(*this);
+  if (!randomize) {
+    DatasetOptions drawn_by_default = *this;
+    drawn_by_default.camera_ranges = CameraRandomization{};
+    const nlohmann::json given = datasetOptionTable().toJson(*this);
+    const nlohmann::json defaults = datasetOptionTable().toJson(drawn_by_default);
+    for (const std::string& key : kCameraRandomizationKeys) {
+      if (given.at(key) != defaults.at(key)) {
+        throw InvalidArgumentError(key +
+                                   " is a range the camera is drawn from: it needs randomize");
+      }
+    }
+  } else {
+    EnvironmentOptions drawn;  // min <= max, checked where the environment checks them
+    drawn.camera_randomization = camera_ranges;
+    drawn.camera_randomization.enabled = true;
+    drawn.validate();
+  }
   if (first_elevation_min_rad > first_elevation_max_rad) {
     throw InvalidArgumentError("first_elevation_min (" + std::to_string(first_elevation_min_rad) +
                                ") must not exceed first_elevation_max (" +
@@ -456,18 +476,22 @@ void auditFrame(Worker& worker, const BopDataset& data, const std::string& dir, 
     return;
   }
   if (cv::norm(rgb, seen.rgb, cv::NORM_INF) != 0.0) problem("rgb differs");
+  // Against the stored image as it was encoded: its unit, and depths beyond its range clamped.
   const cv::Mat depth = data.readDepthMeters(frame);
+  const double unit_m = frame.depth_scale_mm / 1000.0;
   double worst_depth = 0.0;
   bool holes_match = true;
   for (int row = 0; row < depth.rows; ++row) {
     for (int col = 0; col < depth.cols; ++col) {
       const float a = depth.at<float>(row, col), b = seen.depth.at<float>(row, col);
       if (std::isnan(a) != std::isnan(b)) holes_match = false;
-      if (!std::isnan(a) && !std::isnan(b))
-        worst_depth = std::max(worst_depth, std::abs(double(a) - b));
+      if (!std::isnan(a) && !std::isnan(b)) {
+        const double encoded = std::clamp(double(b), unit_m, 65535.0 * unit_m);
+        worst_depth = std::max(worst_depth, std::abs(double(a) - encoded));
+      }
     }
   }
-  if (!holes_match || worst_depth > 0.6 * kDepthScaleMm / 1000.0) {
+  if (!holes_match || worst_depth > 0.6 * unit_m) {
     problem("depth differs (worst " + std::to_string(worst_depth) + " m)");
   }
   for (int object = 0; object < worker.environment.numObjects(); ++object) {

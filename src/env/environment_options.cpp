@@ -26,33 +26,13 @@ void addCamera(OptionTable<Options>& table) {
 }
 
 void addCameraRandomization(OptionTable<Options>& table) {
-  using R = CameraRandomization;
-  const auto member = [](auto R::*field) {
-    return [field](Options & o) -> auto& {
-      return o.camera_randomization.*field;
-    };
-  };
-  table
-      .add("randomize_camera", member(&R::enabled),
-           OptionSpec("draw radius, field of view, resolution and intrinsics per scene from its "
-                      "seed (the scene is scaled by drawn radius / radius)"))
-      .add("radius_range", member(&R::radius_range_m),
-           OptionSpec("randomize_camera: the camera's distance from the scene centre, min,max")
-               .unit("m")
-               .above(0))
-      .add("field_of_view_range", member(&R::field_of_view_range_rad),
-           OptionSpec("randomize_camera: horizontal field of view, min,max")
-               .unit("rad")
-               .above(0)
-               .below(M_PI))
-      .add("resolution_scale_range", member(&R::resolution_scale_range),
-           OptionSpec("randomize_camera: image size = width, height times this, min,max")
-               .range(0.0625, 4))
-      .add("focal_length_jitter", member(&R::focal_length_jitter),
-           OptionSpec("randomize_camera: fx and fy each times 1 + U(-j, j)").range(0, 0.5))
-      .add("principal_point_jitter", member(&R::principal_point_jitter),
-           OptionSpec("randomize_camera: cx and cy each moved by U(-j, j) times width, height")
-               .range(0, 0.25));
+  table.add(
+      "randomize_camera", [](Options& o) -> bool& { return o.camera_randomization.enabled; },
+      OptionSpec("draw radius, field of view, resolution and intrinsics per scene from its "
+                 "seed (the scene is scaled by drawn radius / radius)"));
+  addCameraRandomizationRanges(
+      table, [](Options& o) -> CameraRandomization& { return o.camera_randomization; },
+      "randomize_camera: ");
 }
 
 void addObjects(OptionTable<Options>& table) {

@@ -2,7 +2,9 @@
 // cv::imread, not the library's reader), audited, resumed and refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -32,12 +34,17 @@ DatasetOptions tinyOptions() {
   return options;
 }
 
+// An empty folder of this name (and the process id) under the system's temporary folder.
+fs::path emptyTemporaryDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
 // Generated once for the tests below.
 const std::string& tinyDataset() {
   static const std::string dir = [] {
-    const fs::path path =
-        fs::temp_directory_path() / ("occlusion_env_dataset_test_" + std::to_string(::getpid()));
-    fs::remove_all(path);
+    const fs::path path = emptyTemporaryDir("occlusion_env_dataset_test");
     const GenerationReport report = generateDataset(path.string(), tinyOptions());
     EXPECT_EQ(report.scenes_written, 2);
     EXPECT_EQ(report.frames_written, 24);
@@ -231,9 +238,7 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
 // labels name world, sensor and camera, scene_camera's K is the drawn one, and the audit
 // re-renders it with the same draws (and catches a changed frame).
 TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("occlusion_env_randomized_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = emptyTemporaryDir("occlusion_env_randomized");
   DatasetOptions options = tinyOptions();
   options.scenes = 4;
   options.frames = 3;
@@ -296,9 +301,7 @@ TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
 }
 
 TEST(DatasetTest, FirstElevationIsDrawnPerSceneOverTheSameScenesAndPassesTheAudit) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("occlusion_env_elevated_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = emptyTemporaryDir("occlusion_env_elevated");
   DatasetOptions options = tinyOptions();
   options.scenes = 4;
   options.frames = 3;
@@ -347,6 +350,113 @@ TEST(DatasetTest, MaxSceneAttemptsReachesTheEnvironmentAndTheManifestOnlyWhenSet
   EXPECT_EQ(environmentOptionsFor(options).max_scene_attempts, 60);  // the audit's too
   options.max_scene_attempts = 0;
   EXPECT_THROW(options.validate(), InvalidArgumentError);
+}
+
+// In a room the far walls stand up to 12 m from the camera: their depth is stored, not clamped
+// at the old unit's 6.55 m, and the set passes its audit. An image that records the old unit
+// (0.1 mm) is read with it.
+TEST(DatasetTest, ARoomsFarDepthIsStoredAndEachImageIsReadInItsOwnUnit) {
+  const fs::path dir = emptyTemporaryDir("occlusion_env_room_depth");
+  DatasetOptions options = tinyOptions();
+  options.scenes = 2;
+  options.frames = 2;
+  options.world = "room";
+  options.oracle_labels = false;
+  generateDataset(dir.string(), options);
+  const BopDataset room(dir.string());
+  float farthest = 0.0f;
+  for (const Frame& frame : room.frames()) {
+    EXPECT_EQ(frame.depth_scale_mm, kDepthScaleMm);
+    const cv::Mat depth = room.readDepthMeters(frame);
+    for (auto it = depth.begin<float>(); it != depth.end<float>(); ++it) {
+      if (std::isfinite(*it)) farthest = std::max(farthest, *it);
+    }
+  }
+  EXPECT_GT(farthest, 6.6f);  // beyond 65535 units of 0.1 mm
+  const AuditReport audit = auditDataset(dir.string(), 4);
+  EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());
+
+  // The first frame rewritten in units of 0.1 mm, as sets were before, and recorded so.
+  const Frame& first = room.frames().front();
+  const cv::Mat metres = room.readDepthMeters(first);
+  cv::Mat old_units(metres.size(), CV_16UC1);
+  for (int row = 0; row < metres.rows; ++row) {
+    for (int col = 0; col < metres.cols; ++col) {
+      const float m = metres.at<float>(row, col);
+      old_units.at<std::uint16_t>(row, col) =
+          std::isfinite(m)
+              ? static_cast<std::uint16_t>(std::min(65535.0, std::round(m * 1000.0 / 0.1)))
+              : 0;
+    }
+  }
+  cv::imwrite(first.depth_path, old_units);
+  const fs::path camera_path = fs::path(first.scene_folder) / "scene_camera.json";
+  nlohmann::json cameras = readJson(camera_path);
+  cameras[std::to_string(first.labels.image_id)]["depth_scale"] = 0.1;
+  std::ofstream(camera_path) << cameras.dump();
+  const BopDataset reread(dir.string());
+  for (const Frame& frame : reread.frames()) {
+    if (frame.depth_path != first.depth_path) continue;
+    EXPECT_EQ(frame.depth_scale_mm, 0.1);
+    const cv::Mat back = reread.readDepthMeters(frame);
+    for (int row = 0; row < back.rows; ++row) {
+      for (int col = 0; col < back.cols; ++col) {
+        const float m = metres.at<float>(row, col), b = back.at<float>(row, col);
+        ASSERT_EQ(std::isfinite(m), std::isfinite(b));
+        if (std::isfinite(m)) EXPECT_NEAR(b, std::min(m, 6.5535f), 0.06e-3) << row << "," << col;
+      }
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// --randomize with the camera's ranges given: a camera pinned to 60 deg, the full size and no
+// jitter, at 1 m, draws exactly that camera; the manifest records the ranges and the audit
+// re-draws them. Ranges without --randomize, or a min above its max, are refused.
+TEST(DatasetTest, CameraRangesReachTheDrawsTheManifestAndTheAudit) {
+  const fs::path dir = emptyTemporaryDir("occlusion_env_camera_ranges");
+  DatasetOptions options = tinyOptions();
+  options.scenes = 3;
+  options.frames = 2;
+  options.randomize = true;
+  options.oracle_labels = false;
+  options.camera_ranges.radius_range_m = {1.0, 1.0};
+  options.camera_ranges.field_of_view_range_rad = {M_PI / 3.0, M_PI / 3.0};
+  options.camera_ranges.resolution_scale_range = {1.0, 1.0};
+  options.camera_ranges.focal_length_jitter = 0.0;
+  options.camera_ranges.principal_point_jitter = 0.0;
+  generateDataset(dir.string(), options);
+  const nlohmann::json recorded =
+      readJson(dir / "dataset.json").at("options").at("camera_randomization");
+  EXPECT_EQ(recorded.at("radius_range"), nlohmann::json({1.0, 1.0}));
+  EXPECT_EQ(recorded.at("principal_point_jitter"), 0.0);
+  const double fx = options.size / 2.0 / std::tan(M_PI / 6.0);
+  const BopDataset pinned(dir.string());
+  ASSERT_EQ(pinned.frames().size(), 6u);
+  for (const Frame& frame : pinned.frames()) {
+    ASSERT_TRUE(frame.labels.setup.has_value());
+    EXPECT_DOUBLE_EQ(frame.labels.setup->radius_m, 1.0);
+    EXPECT_DOUBLE_EQ(frame.labels.setup->field_of_view_rad, M_PI / 3.0);
+    EXPECT_EQ(frame.intrinsics.width, options.size);
+    EXPECT_NEAR(frame.intrinsics.fx, fx, 1e-9);
+    EXPECT_NEAR(frame.intrinsics.cx, (options.size - 1) / 2.0, 1e-9);
+  }
+  const AuditReport audit = auditDataset(dir.string(), 6);
+  EXPECT_EQ(audit.failures, 0) << (audit.problems.empty() ? "" : audit.problems.front());
+  fs::remove_all(dir);
+
+  DatasetOptions not_drawn = tinyOptions();
+  not_drawn.camera_ranges.focal_length_jitter = 0.0;
+  EXPECT_THROW(not_drawn.validate(), InvalidArgumentError);
+  DatasetOptions reversed = options;
+  reversed.camera_ranges.radius_range_m = {1.5, 0.5};
+  EXPECT_THROW(reversed.validate(), InvalidArgumentError);
+  // Unset, a set's options are those recorded before the ranges were options.
+  EXPECT_EQ(tinyOptions().definingJson().contains("radius_range"), false);
+  DatasetOptions defaults = tinyOptions();
+  defaults.randomize = true;
+  EXPECT_EQ(defaults.definingJson().at("camera_randomization").at("resolution_scale_range"),
+            nlohmann::json({0.5, 1.0}));
 }
 
 }  // namespace

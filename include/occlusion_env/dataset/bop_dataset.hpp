@@ -32,7 +32,12 @@
 namespace occlusion_env {
 namespace dataset {
 
-constexpr double kDepthScaleMm = 0.1;  // depth PNG units [mm]: 0.1 mm, up to 6.5535 m
+/// Depth PNG units [mm] written: 0.25 mm, up to 16.38 m (a room's far walls stand up to 12 m
+/// from the camera). Each image records its own (scene_camera.json's depth_scale) and is read
+/// with it: sets written before 2026-11-29 have 0.1 mm, up to 6.55 m.
+constexpr double kDepthScaleMm = 0.25;
+/// The depth unit [mm] of an image whose scene_camera.json records none.
+constexpr double kUnrecordedDepthScaleMm = 0.1;
 constexpr const char* kManifestFile = "dataset.json";
 constexpr const char* kSplitFolder = "train";
 constexpr const char* kLabelsFile = "scene_labels.json";
@@ -54,7 +59,8 @@ struct Frame {
   FrameLabels labels;
   /// scene_camera.json's cam_K for the frame's images; fx = 0 when the scene has none.
   CameraIntrinsics intrinsics;
-  std::string scene_folder;  // "<dir>/train/<scene:06d>"
+  double depth_scale_mm = kUnrecordedDepthScaleMm;  // its depth PNG's unit [mm]
+  std::string scene_folder;                         // "<dir>/train/<scene:06d>"
   std::string rgb_path, depth_path, occlusion_path;
 };
 

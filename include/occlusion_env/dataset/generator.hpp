@@ -48,6 +48,9 @@ struct DatasetOptions {
   /// env/scene_setup.hpp) and, where not given, the world and the sensor. The frames are what the
   /// sensor gives; the labels (masks, occlusion, gradient, oracle) stay the truth.
   bool randomize = false;
+  /// With `randomize`: the ranges the camera is drawn from (env/scene_setup.hpp's defaults;
+  /// `enabled` is not used, `randomize` is). Recorded in the manifest as camera_randomization.
+  CameraRandomization camera_ranges;
   double validation_fraction = 0.2;  // whole scenes: every 1/fraction-th scene
   int threads = 2;                   // workers, one environment (GL context) each
 
@@ -56,8 +59,8 @@ struct DatasetOptions {
   /// false: a default set's options are as before they existed), with the model split, the
   /// step size and, with randomize, the camera ranges.
   nlohmann::json definingJson() const;
-  /// Throws InvalidArgumentError naming the first bad option; test seeds (>= 1,000,000) and
-  /// anything but the train model split are refused here.
+  /// Throws InvalidArgumentError naming the first bad option; test seeds (>= 1,000,000),
+  /// anything but the train model split, and camera ranges without `randomize` are refused here.
   void validate() const;
 };
 

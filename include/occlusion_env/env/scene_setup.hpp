@@ -85,4 +85,32 @@ OptionTable<O>& addSceneRandomizationOptions(OptionTable<O>& table,
                       "intrinsics) and, unless given, world and depth sensor (doc/SENSORS.md)"));
 }
 
+/// Adds the ranges of the camera draws (radius_range, field_of_view_range,
+/// resolution_scale_range, focal_length_jitter, principal_point_jitter) of the
+/// CameraRandomization that `ranges(options)` returns to a table: the environment's, and the
+/// tools' that make randomised scenes. `scope` begins each help text.
+template <class O, class Ranges>
+OptionTable<O>& addCameraRandomizationRanges(OptionTable<O>& table, Ranges ranges,
+                                             const std::string& scope) {
+  const auto field = [ranges](auto CameraRandomization::*member) {
+    return [ ranges, member ](O & options) -> auto& {
+      return ranges(options).*member;
+    };
+  };
+  return table
+      .add("radius_range", field(&CameraRandomization::radius_range_m),
+           OptionSpec(scope + "the camera's distance from the scene centre, min,max")
+               .unit("m")
+               .above(0))
+      .add("field_of_view_range", field(&CameraRandomization::field_of_view_range_rad),
+           OptionSpec(scope + "horizontal field of view, min,max").unit("rad").above(0).below(M_PI))
+      .add("resolution_scale_range", field(&CameraRandomization::resolution_scale_range),
+           OptionSpec(scope + "image size = width, height times this, min,max").range(0.0625, 4))
+      .add("focal_length_jitter", field(&CameraRandomization::focal_length_jitter),
+           OptionSpec(scope + "fx and fy each times 1 + U(-j, j)").range(0, 0.5))
+      .add("principal_point_jitter", field(&CameraRandomization::principal_point_jitter),
+           OptionSpec(scope + "cx and cy each moved by U(-j, j) times width, height")
+               .range(0, 0.25));
+}
+
 }  // namespace occlusion_env
