@@ -338,8 +338,11 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 }
 
 Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
-                        const nlohmann::json& model_manifest) {
+                        const nlohmann::json& model_manifest, double mask_coverage) {
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
+  if (!(mask_coverage > 0.0 && mask_coverage <= 1.0)) {
+    throw InvalidArgumentError("mask_coverage must be a fraction in (0, 1]");
+  }
   // The model's training datasets, as recorded (paths relative to where it was trained, which
   // is where the tools run from).
   std::set<std::string> trained_on;
@@ -368,7 +371,7 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
   for (const auto& data : datasets) {
     std::vector<const dataset::Frame*> frames;
     for (const dataset::Frame& frame : data->frames()) frames.push_back(&frame);
-    fillSamples(*data, frames, format, samples, row);
+    fillSamples(*data, frames, format, samples, row, mask_coverage);
     row += static_cast<int64_t>(frames.size());
   }
   return samples;
@@ -444,7 +447,7 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
           .add("mask_coverage", &O::mask_coverage,
                OptionSpec("a network pixel is labelled occluded where at least this fraction of "
                           "its area is occluded (0.5: the paper's masks; 0.01: any occluded "
-                          "pixel)")
+                          "pixel); with --check, the check frames' labels")
                    .range(0.001, 1))
           .add("init_from", &O::init_from,
                OptionSpec("start from this model's weights (a best.pt of an earlier run of the "

@@ -123,14 +123,14 @@ void printEscapeErrors(const nlohmann::json& rows) {
 // Validation's figures of a model on every frame of datasets it was neither trained nor chosen
 // on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
-               int threads, const std::string& out_path) {
+               int threads, double mask_coverage, const std::string& out_path) {
   using namespace occlusion_env;
   learning::setLibtorchThreads(threads);
   learning::LoadedModel model = learning::loadModel(model_path);
   const int size = model.network->config().input_size;
   std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";
-  const learning::Samples frames =
-      learning::loadCheckFrames(data_dirs, model.network->config().inputFormat(), model.manifest);
+  const learning::Samples frames = learning::loadCheckFrames(
+      data_dirs, model.network->config().inputFormat(), model.manifest, mask_coverage);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
   torch::Tensor escape_errors_deg, escape_shortest;
@@ -140,6 +140,8 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                            {"datasets", data_dirs},
                            {"frames", frames.size()},
                            {"figures", m.toJson()}};
+  // Labels at another coverage than the paper's are other labels: said where the figures are.
+  if (mask_coverage != learning::kPaperMaskCoverage) result["mask_coverage"] = mask_coverage;
   for (const char* unused :
        {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
     result["figures"].erase(unused);
@@ -151,10 +153,14 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                        : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
-            << " frames: IoU " << 100.0 * m.val_iou << " %, pixel acc "
-            << 100.0 * m.val_pixel_accuracy << " %, dice loss " << std::setprecision(4)
-            << m.val_dice_loss << ", gradient " << std::setprecision(1) << m.val_gradient_angle_deg
-            << " deg, escape " << m.val_escape_angle_deg << " deg"
+            << " frames"
+            << (mask_coverage != learning::kPaperMaskCoverage
+                    ? " (labels at coverage " + std::to_string(mask_coverage).substr(0, 5) + ")"
+                    : std::string())
+            << ": IoU " << 100.0 * m.val_iou << " %, pixel acc " << 100.0 * m.val_pixel_accuracy
+            << " %, dice loss " << std::setprecision(4) << m.val_dice_loss << ", gradient "
+            << std::setprecision(1) << m.val_gradient_angle_deg << " deg, escape "
+            << m.val_escape_angle_deg << " deg"
             << (m.val_escape_bins_angle_deg > 0.0
                     ? " (bins " + std::to_string(m.val_escape_bins_angle_deg).substr(0, 5) + " deg)"
                     : std::string())
@@ -243,7 +249,8 @@ int train(const Arguments& args) {
 int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
   if (!args.check_model.empty()) {
-    return checkModel(args.check_model, args.data_dirs, args.options.threads, args.run_dir);
+    return checkModel(args.check_model, args.data_dirs, args.options.threads,
+                      args.options.mask_coverage, args.run_dir);
   }
   return train(args);
 }

@@ -598,6 +598,11 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
       << "the training data by another path";
   const Samples frames = loadCheckFrames({other_dir.string()}, 32, model.manifest);
   EXPECT_EQ(frames.size(), 8) << "every frame, whatever its split";
+  // Labels at another coverage: any occluded part of a network pixel marks it.
+  const Samples any_part = loadCheckFrames({other_dir.string()}, 32, model.manifest, 0.01);
+  EXPECT_GT(any_part.masks.sum().item<int64_t>(), frames.masks.sum().item<int64_t>());
+  EXPECT_THROW(loadCheckFrames({other_dir.string()}, 32, model.manifest, 0.0),
+               InvalidArgumentError);
   torch::Tensor errors;
   const EpochMetrics figures = evaluate(model.network, frames, 4, "mse", &errors);
   EXPECT_GE(figures.val_iou, 0.0);

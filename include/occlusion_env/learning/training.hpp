@@ -73,9 +73,11 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 /// Every frame (of training and validation scenes alike) of datasets that a model was not trained
 /// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
 /// Refuses (InvalidArgumentError) a dataset that `model_manifest` lists as trained on (by path)
-/// or whose options equal those of the model's first dataset.
+/// or whose options equal those of the model's first dataset. Labels as loadTrainingData's at
+/// `mask_coverage`.
 Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
-                        const nlohmann::json& model_manifest);
+                        const nlohmann::json& model_manifest,
+                        double mask_coverage = kPaperMaskCoverage);
 
 struct TrainingOptions {
   NetworkConfig network;
