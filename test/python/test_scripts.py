@@ -315,3 +315,108 @@ def test_stopping_rules_refuses_a_file_without_estimates(tmp_path):
     result = subprocess.run([sys.executable, STOPPING_RULES, empty], capture_output=True, text=True)
     assert result.returncode == 1
     assert "no views" in result.stderr
+
+
+SPLIT_BY_CAMERA = os.path.join(ROOT, "scripts", "split_by_camera.py")
+
+
+def write_scene(dataset, index, world, sensor, fov_deg, width):
+    folder = dataset / "train" / f"{index:06d}"
+    folder.mkdir(parents=True)
+    camera = {"field_of_view_rad": fov_deg * 3.141592653589793 / 180.0, "width": width,
+              "height": width, "radius_m": 1.0}
+    labels = {str(i): {"world": world, "depth_sensor": sensor, "camera": camera}
+              for i in range(2)}
+    (folder / "scene_labels.json").write_text(json.dumps(labels))
+
+
+def split(*args):
+    return subprocess.run([sys.executable, SPLIT_BY_CAMERA, *map(str, args)],
+                          capture_output=True, text=True)
+
+
+def test_scenes_are_split_by_their_camera_and_linked_not_copied(tmp_path):
+    dataset = tmp_path / "data"
+    write_scene(dataset, 0, "void", "ideal", 61.0, 64)
+    write_scene(dataset, 1, "room", "ideal", 79.9, 100)
+    write_scene(dataset, 2, "void", "realsense_d435", 80.0, 128)
+    (dataset / "dataset.json").write_text('{"scenes": []}')
+    result = split(dataset, tmp_path / "fov", "--by", "field_of_view")
+    assert result.returncode == 0, result.stderr
+    groups = {p.name: sorted(s.name for s in (p / "train").iterdir())
+              for p in (tmp_path / "fov").iterdir()}
+    assert groups == {"fov_60-70": ["000000"], "fov_70-80": ["000001"], "fov_80-90": ["000002"]}
+    link = tmp_path / "fov" / "fov_70-80" / "train" / "000001"
+    assert link.is_symlink() and link.resolve() == (dataset / "train" / "000001").resolve()
+    assert (tmp_path / "fov" / "fov_70-80" / "dataset.json").read_text() == '{"scenes": []}'
+    assert "| fov_80-90 | 1 |" in result.stdout
+    result = split(dataset, tmp_path / "both", "--by", "world", "--by", "width",
+                   "--width-band", "64")
+    assert result.returncode == 0, result.stderr
+    assert sorted(p.name for p in (tmp_path / "both").iterdir()) == [
+        "room_width_64-128px", "void_width_128-192px", "void_width_64-128px"]
+
+
+def test_a_split_refuses_an_existing_folder_and_labels_without_a_camera(tmp_path):
+    dataset = tmp_path / "data"
+    write_scene(dataset, 0, "void", "ideal", 60.0, 64)
+    (dataset / "dataset.json").write_text("{}")
+    (tmp_path / "out").mkdir()
+    result = split(dataset, tmp_path / "out", "--by", "world")
+    assert result.returncode != 0 and "exists; give a new folder" in result.stderr
+    old = tmp_path / "old"
+    (old / "train" / "000000").mkdir(parents=True)
+    (old / "train" / "000000" / "scene_labels.json").write_text('{"0": {"oracle_steps": 1}}')
+    (old / "dataset.json").write_text("{}")
+    result = split(old, tmp_path / "split", "--by", "radius")
+    assert result.returncode != 0 and "do not record the camera" in result.stderr
+    assert not (tmp_path / "split").exists()
+
+
+CROP_TO_FIELD_OF_VIEW = os.path.join(ROOT, "scripts", "crop_to_field_of_view.py")
+
+
+def test_frames_are_cropped_to_the_field_of_view_around_their_principal_point(tmp_path):
+    import numpy as np
+    from PIL import Image
+    dataset = tmp_path / "data"
+    scene = dataset / "train" / "000000"
+    for folder in ("rgb", "depth", "occlusion", "mask", "mask_visib"):
+        (scene / folder).mkdir(parents=True)
+    (dataset / "dataset.json").write_text("{}")
+    # 90 deg at 64 px: fx = 32; the 60 deg view is 2 * 32 * tan(30 deg) = 36.95 -> 37 px wide,
+    # centred on (cx, cy) = (33, 31): columns 15..51, rows 13..49.
+    camera = {"width": 64, "height": 64, "fx": 32.0, "fy": 32.0, "cx": 33.0, "cy": 31.0,
+              "field_of_view_rad": 3.141592653589793 / 2}
+    (scene / "scene_labels.json").write_text(json.dumps({"0": {"camera": camera}}))
+    (scene / "scene_camera.json").write_text(json.dumps(
+        {"0": {"cam_K": [32.0, 0, 33.0, 0, 32.0, 31.0, 0, 0, 1], "depth_scale": 0.25}}))
+    rgb = np.zeros((64, 64, 3), np.uint8)
+    rgb[13, 15] = (255, 0, 0)
+    Image.fromarray(rgb).save(scene / "rgb" / "000000.png")
+    depth = np.full((64, 64), 4000, np.uint16)
+    depth[49, 51] = 1234
+    Image.fromarray(depth).save(scene / "depth" / "000000.png")
+    occlusion = np.zeros((64, 64), np.uint8)
+    occlusion[20, 20] = occlusion[0, 0] = 255  # one inside the crop, one left out
+    Image.fromarray(occlusion).save(scene / "occlusion" / "000000.png")
+    Image.fromarray(occlusion).save(scene / "mask" / "000000_000000.png")
+    result = subprocess.run([sys.executable, CROP_TO_FIELD_OF_VIEW, dataset, tmp_path / "out"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "1 of 1 frames cropped to 60 deg; occluded pixels left out: 1 of 2 (50.00 %)" \
+        in result.stdout
+    out = tmp_path / "out" / "train" / "000000"
+    cropped_rgb = np.array(Image.open(out / "rgb" / "000000.png"))
+    assert cropped_rgb.shape == (37, 37, 3)
+    assert tuple(cropped_rgb[0, 0]) == (255, 0, 0)
+    cropped_depth = np.array(Image.open(out / "depth" / "000000.png"))
+    assert cropped_depth[36, 36] == 1234 and cropped_depth[0, 0] == 4000
+    assert np.array(Image.open(out / "mask" / "000000_000000.png"))[7, 5] == 255
+    labels = json.loads((out / "scene_labels.json").read_text())["0"]["camera"]
+    assert (labels["width"], labels["height"], labels["cx"], labels["cy"]) == (37, 37, 18.0, 18.0)
+    matrix = json.loads((out / "scene_camera.json").read_text())["0"]["cam_K"]
+    assert (matrix[2], matrix[5]) == (18.0, 18.0)
+    again = subprocess.run([sys.executable, CROP_TO_FIELD_OF_VIEW, dataset, tmp_path / "out"],
+                           capture_output=True, text=True)
+    assert again.returncode != 0 and "exists" in again.stderr
