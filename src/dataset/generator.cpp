@@ -416,23 +416,7 @@ nlohmann::json DatasetOptions::definingJson() const {
 
 void DatasetOptions::validate() const {
   datasetOptionTable().check(*this);
-  if (!randomize) {
-    DatasetOptions drawn_by_default = *this;
-    drawn_by_default.camera_ranges = CameraRandomization{};
-    const nlohmann::json given = datasetOptionTable().toJson(*this);
-    const nlohmann::json defaults = datasetOptionTable().toJson(drawn_by_default);
-    for (const std::string& key : kCameraRandomizationKeys) {
-      if (given.at(key) != defaults.at(key)) {
-        throw InvalidArgumentError(key +
-                                   " is a range the camera is drawn from: it needs randomize");
-      }
-    }
-  } else {
-    EnvironmentOptions drawn;  // min <= max, checked where the environment checks them
-    drawn.camera_randomization = camera_ranges;
-    drawn.camera_randomization.enabled = true;
-    drawn.validate();
-  }
+  requireCameraRangesDrawn(camera_ranges, randomize);
   if (first_elevation_min_rad > first_elevation_max_rad) {
     throw InvalidArgumentError("first_elevation_min (" + std::to_string(first_elevation_min_rad) +
                                ") must not exceed first_elevation_max (" +

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
 #include "occlusion_env/env/environment.hpp"
 
@@ -118,6 +121,26 @@ const std::vector<std::string>& depthSensorChoices() {
   static const std::vector<std::string> choices = {"ideal", "kinect_v1", "realsense_d435",
                                                    "azure_kinect", kRandomChoice};
   return choices;
+}
+
+void requireCameraRangesDrawn(const CameraRandomization& ranges, bool randomize) {
+  const CameraRandomization defaults;
+  const std::pair<const char*, bool> changed[] = {
+      {"radius_range", ranges.radius_range_m != defaults.radius_range_m},
+      {"field_of_view_range", ranges.field_of_view_range_rad != defaults.field_of_view_range_rad},
+      {"resolution_scale_range", ranges.resolution_scale_range != defaults.resolution_scale_range},
+      {"focal_length_jitter", ranges.focal_length_jitter != defaults.focal_length_jitter},
+      {"principal_point_jitter", ranges.principal_point_jitter != defaults.principal_point_jitter}};
+  for (const auto& [key, differs] : changed) {
+    if (differs && !randomize) {
+      throw InvalidArgumentError(std::string(key) +
+                                 " is a range the camera is drawn from: it needs randomize");
+    }
+  }
+  EnvironmentOptions drawn;  // min <= max, checked where the environment checks them
+  drawn.camera_randomization = ranges;
+  drawn.camera_randomization.enabled = randomize;
+  drawn.validate();
 }
 
 void applySceneRandomization(EnvironmentOptions& options, const std::optional<std::string>& world,

@@ -107,6 +107,8 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                      "(the bridge's ~confirm_views)"));
   addSceneRandomizationOptions(table, &O::world, &O::depth_sensor, &O::randomize,
                                "with --scenes: ");
+  addCameraRandomizationRanges(
+      table, [](O& o) -> CameraRandomization& { return o.camera_ranges; }, "with --randomize: ");
 }
 
 void addOutputOptions(OptionTable<EvalOptions>& table) {
@@ -157,11 +159,20 @@ void EvalOptions::resolve() {
   if ((world || depth_sensor || randomize) && scenes.empty()) {
     throw InvalidArgumentError("--world, --depth-sensor and --randomize need --scenes");
   }
+  requireCameraRangesDrawn(camera_ranges, randomize);
   if (!through_bridge.empty() && scenes.empty()) {
     throw InvalidArgumentError("--through-bridge needs --scenes");
   }
   if (source_dir.empty()) source_dir = packageShareDirectory();
   if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";
+}
+
+void EvalOptions::applySceneRandomization(EnvironmentOptions& environment) const {
+  occlusion_env::applySceneRandomization(environment, world, depth_sensor, randomize);
+  if (randomize) {  // the camera's ranges as asked, drawn
+    environment.camera_randomization = camera_ranges;
+    environment.camera_randomization.enabled = true;
+  }
 }
 
 const AgentRegistry& agentRegistry() {

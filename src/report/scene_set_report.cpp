@@ -142,7 +142,7 @@ std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   plan.agents =
       cl.agents.empty() ? agentRegistry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
-  applySceneRandomization(plan.environment, cl.world, cl.depth_sensor, cl.randomize);
+  cl.applySceneRandomization(plan.environment);
   plan.max_steps = cl.max_steps.value_or(50);
   if (!cl.through_bridge.empty()) return runThroughBridge(cl, plan);
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/report/eval_options.hpp"
 #include "occlusion_env/report/evaluation_report.hpp"
 #include "occlusion_env/report/model_report.hpp"
@@ -137,6 +139,24 @@ TEST(EvalOptions, TheBridgesStoppingRuleIsTheBridgesDefaultsUnlessGiven) {
   EXPECT_EQ(options.bridge.confirm_views, 3);
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_confirm_views", 0));
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_threshold", -1));
+}
+
+// --field-of-view-range and the other ranges: refused without --randomize, drawn with it.
+TEST(EvalOptions, TheCamerasRangesReachTheEnvironmentOnlyWhenDrawn) {
+  EvalOptions options;
+  options.scenes = "config/scenes/validation_sweethome3d.yaml";
+  evalOptionTable().set(options, "field_of_view_range", std::vector<double>{1.5, 1.5});
+  EXPECT_THROW(options.resolve(), InvalidArgumentError);
+  options.randomize = true;
+  options.resolve();
+  EnvironmentOptions environment;
+  options.applySceneRandomization(environment);
+  EXPECT_TRUE(environment.camera_randomization.enabled);
+  EXPECT_EQ(environment.camera_randomization.field_of_view_range_rad,
+            (std::vector<double>{1.5, 1.5}));
+  EXPECT_EQ(environment.world.world, "random");  // and the world and sensor drawn, unset
+  evalOptionTable().set(options, "radius_range", std::vector<double>{1.5, 0.5});
+  EXPECT_THROW(options.resolve(), InvalidArgumentError);
 }
 
 }  // namespace

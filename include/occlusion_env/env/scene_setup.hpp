@@ -59,6 +59,10 @@ struct SceneSetup {
 /// (the scene's objects and start pose draw exactly as without).
 SceneSetup drawSceneSetup(const EnvironmentOptions& options, std::uint64_t seed);
 
+/// For a tool's options: throws InvalidArgumentError when `ranges` differ from the defaults and
+/// the camera is not drawn (`randomize` false), and when a range's min exceeds its max.
+void requireCameraRangesDrawn(const CameraRandomization& ranges, bool randomize);
+
 /// What the tools' --world, --depth-sensor and --randomize ask for: `randomize` draws the camera
 /// per scene and, where `world` / `depth_sensor` are not given, the world and the sensor too.
 void applySceneRandomization(EnvironmentOptions& options, const std::optional<std::string>& world,

@@ -9,6 +9,7 @@
 #include "occlusion_env/agents/agent_registry.hpp"
 #include "occlusion_env/common/option_table.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
+#include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/best.hpp"
 
 namespace occlusion_env {
@@ -43,6 +44,7 @@ struct EvalOptions {
   std::optional<std::string> world;
   std::optional<std::string> depth_sensor;
   bool randomize = false;
+  CameraRandomization camera_ranges;  // with randomize: the ranges the camera is drawn from
   std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
   // With through_bridge: the bridge's stopping rule (--bridge-* flags), its defaults the bridge's.
   CameraEnvironmentOptions bridge;
@@ -50,6 +52,9 @@ struct EvalOptions {
   /// Throws InvalidArgumentError unless exactly one mode is set and the options fit it; then
   /// fills source_dir and plot_script with their defaults when they are empty.
   void resolve();
+  /// Sets `environment`'s world, depth sensor and camera draws as these options ask (--world,
+  /// --depth-sensor, --randomize and the camera's ranges).
+  void applySceneRandomization(EnvironmentOptions& environment) const;
 };
 
 /// The declared options of EvalOptions; the flags are occlusion_eval's.
