@@ -21,6 +21,8 @@ import sys
 import numpy as np
 from PIL import Image
 
+from dataset_scenes import labelled_scenes
+
 IMAGE_FOLDERS = ("rgb", "depth", "occlusion", "mask", "mask_visib")
 
 
@@ -48,13 +50,7 @@ def main():
     args = parser.parse_args()
     if not 0.0 < args.field_of_view_deg < 180.0:
         sys.exit("crop_to_field_of_view: the field of view must lie in (0, 180) deg")
-    if not os.path.isfile(os.path.join(args.dataset, "dataset.json")):
-        sys.exit("crop_to_field_of_view: %s is not a dataset (no dataset.json)" % args.dataset)
-    if os.path.exists(args.out):
-        sys.exit("crop_to_field_of_view: %s exists; give a new folder" % args.out)
-    scenes = sorted(glob.glob(os.path.join(args.dataset, "train", "*", "scene_labels.json")))
-    if not scenes:
-        sys.exit("crop_to_field_of_view: %s has no scene with labels" % args.dataset)
+    scenes = labelled_scenes("crop_to_field_of_view", args.dataset, args.out)
     field_of_view = math.radians(args.field_of_view_deg)
 
     os.makedirs(os.path.join(args.out, "train"))

@@ -13,11 +13,12 @@ Usage: scripts/split_by_camera.py DATASET OUT --by KEY [--by KEY ...]
        (groups fov_60-70, fov_70-80, fov_80-90 under runs/split)
 """
 import argparse
-import glob
 import json
 import math
 import os
 import sys
+
+from dataset_scenes import labelled_scenes
 
 KEYS = ("world", "depth_sensor", "field_of_view", "width", "radius")
 
@@ -68,14 +69,8 @@ def main():
     if args.fov_band <= 0 or args.width_band <= 0 or args.radius_band <= 0:
         sys.exit("split_by_camera: band widths must be positive")
 
+    scenes = labelled_scenes("split_by_camera", args.dataset, args.out)
     manifest = os.path.join(args.dataset, "dataset.json")
-    if not os.path.isfile(manifest):
-        sys.exit("split_by_camera: %s is not a dataset (no dataset.json)" % args.dataset)
-    if os.path.exists(args.out):
-        sys.exit("split_by_camera: %s exists; give a new folder" % args.out)
-    scenes = sorted(glob.glob(os.path.join(args.dataset, "train", "*", "scene_labels.json")))
-    if not scenes:
-        sys.exit("split_by_camera: %s has no scene with labels" % args.dataset)
 
     groups = {}
     for labels_path in scenes:

@@ -319,12 +319,6 @@ nlohmann::json manifestFor(const DatasetOptions& options, const ObjectCatalog& c
       {"scenes", scenes}};
 }
 
-// The camera-randomisation ranges by their names, the environment's and the dataset's (a
-// randomised set records them as camera_randomization, which environmentOptionsOf applies).
-const std::vector<std::string> kCameraRandomizationKeys = {
-    "radius_range", "field_of_view_range", "resolution_scale_range", "focal_length_jitter",
-    "principal_point_jitter"};
-
 }  // namespace
 
 const OptionTable<DatasetOptions>& datasetOptionTable() {
@@ -406,7 +400,7 @@ nlohmann::json DatasetOptions::definingJson() const {
   }
   // The camera's ranges under one key, and only where they are drawn.
   nlohmann::json ranges = nlohmann::json::object();
-  for (const std::string& key : kCameraRandomizationKeys) {
+  for (const std::string& key : cameraRangeTable().keys()) {
     ranges[key] = json.at(key);
     json.erase(key);
   }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <utility>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
@@ -123,18 +122,25 @@ const std::vector<std::string>& depthSensorChoices() {
   return choices;
 }
 
+const OptionTable<CameraRandomization>& cameraRangeTable() {
+  static const auto table = [] {
+    OptionTable<CameraRandomization> ranges;
+    addCameraRandomizationRanges(
+        ranges, [](CameraRandomization& r) -> CameraRandomization& { return r; }, "");
+    return ranges;
+  }();
+  return table;
+}
+
 void requireCameraRangesDrawn(const CameraRandomization& ranges, bool randomize) {
-  const CameraRandomization defaults;
-  const std::pair<const char*, bool> changed[] = {
-      {"radius_range", ranges.radius_range_m != defaults.radius_range_m},
-      {"field_of_view_range", ranges.field_of_view_range_rad != defaults.field_of_view_range_rad},
-      {"resolution_scale_range", ranges.resolution_scale_range != defaults.resolution_scale_range},
-      {"focal_length_jitter", ranges.focal_length_jitter != defaults.focal_length_jitter},
-      {"principal_point_jitter", ranges.principal_point_jitter != defaults.principal_point_jitter}};
-  for (const auto& [key, differs] : changed) {
-    if (differs && !randomize) {
-      throw InvalidArgumentError(std::string(key) +
-                                 " is a range the camera is drawn from: it needs randomize");
+  if (!randomize) {
+    const nlohmann::json given = cameraRangeTable().toJson(ranges);
+    const nlohmann::json defaults = cameraRangeTable().toJson(CameraRandomization{});
+    for (const std::string& key : cameraRangeTable().keys()) {
+      if (given.at(key) != defaults.at(key)) {
+        throw InvalidArgumentError(key +
+                                   " is a range the camera is drawn from: it needs randomize");
+      }
     }
   }
   EnvironmentOptions drawn;  // min <= max, checked where the environment checks them

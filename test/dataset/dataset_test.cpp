@@ -34,6 +34,15 @@ DatasetOptions tinyOptions() {
   return options;
 }
 
+// tinyOptions() with `scenes` scenes of `frames` frames and no oracle labels: quick sets.
+DatasetOptions quickOptions(int scenes, int frames) {
+  DatasetOptions options = tinyOptions();
+  options.scenes = scenes;
+  options.frames = frames;
+  options.oracle_labels = false;
+  return options;
+}
+
 // An empty folder of this name (and the process id) under the system's temporary folder.
 fs::path emptyTemporaryDir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
@@ -239,11 +248,8 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
 // re-renders it with the same draws (and catches a changed frame).
 TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
   const fs::path dir = emptyTemporaryDir("occlusion_env_randomized");
-  DatasetOptions options = tinyOptions();
-  options.scenes = 4;
-  options.frames = 3;
+  DatasetOptions options = quickOptions(4, 3);
   options.randomize = true;
-  options.oracle_labels = false;
   generateDataset(dir.string(), options);
   const nlohmann::json manifest = readJson(dir / "dataset.json");
   EXPECT_EQ(manifest.at("options").at("randomize"), true);
@@ -357,11 +363,8 @@ TEST(DatasetTest, MaxSceneAttemptsReachesTheEnvironmentAndTheManifestOnlyWhenSet
 // (0.1 mm) is read with it.
 TEST(DatasetTest, ARoomsFarDepthIsStoredAndEachImageIsReadInItsOwnUnit) {
   const fs::path dir = emptyTemporaryDir("occlusion_env_room_depth");
-  DatasetOptions options = tinyOptions();
-  options.scenes = 2;
-  options.frames = 2;
+  DatasetOptions options = quickOptions(2, 2);
   options.world = "room";
-  options.oracle_labels = false;
   generateDataset(dir.string(), options);
   const BopDataset room(dir.string());
   float farthest = 0.0f;
@@ -415,11 +418,8 @@ TEST(DatasetTest, ARoomsFarDepthIsStoredAndEachImageIsReadInItsOwnUnit) {
 // re-draws them. Ranges without --randomize, or a min above its max, are refused.
 TEST(DatasetTest, CameraRangesReachTheDrawsTheManifestAndTheAudit) {
   const fs::path dir = emptyTemporaryDir("occlusion_env_camera_ranges");
-  DatasetOptions options = tinyOptions();
-  options.scenes = 3;
-  options.frames = 2;
+  DatasetOptions options = quickOptions(3, 2);
   options.randomize = true;
-  options.oracle_labels = false;
   options.camera_ranges.radius_range_m = {1.0, 1.0};
   options.camera_ranges.field_of_view_range_rad = {M_PI / 3.0, M_PI / 3.0};
   options.camera_ranges.resolution_scale_range = {1.0, 1.0};

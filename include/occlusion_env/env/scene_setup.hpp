@@ -117,4 +117,8 @@ OptionTable<O>& addCameraRandomizationRanges(OptionTable<O>& table, Ranges range
                .range(0, 0.25));
 }
 
+/// The camera's ranges alone, by the names of every table that has them (their keys() and toJson
+/// compare and record them).
+const OptionTable<CameraRandomization>& cameraRangeTable();
+
 }  // namespace occlusion_env
