@@ -65,6 +65,13 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                           "at its input size (1: the whole view; 0.5: the middle, where the "
                           "objects are, at twice the resolution; network_input.hpp)")
                    .range(0.1, 1.0))
+          .add("view_field_of_view", &NetworkConfig::view_field_of_view,
+               OptionSpec("the angle of view the network sees around the principal point, from "
+                          "the camera's intrinsics, at its input size, whatever the camera's own "
+                          "(the paper's camera: 1.0472 = 60 deg; beyond a narrower image it sees "
+                          "the void); 0 = the view as view_crop says (network_input.hpp)")
+                   .unit("rad")
+                   .range(0.0, 3.0))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -79,6 +86,9 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
 
 void NetworkConfig::validate() const {
   networkConfigTable().check(*this);
+  if (view_field_of_view > 0.0 && view_crop != 1.0) {
+    throw InvalidArgumentError("view_crop and view_field_of_view: a network crops the view by one");
+  }
   if (input_size % (1 << levels) != 0) {
     throw InvalidArgumentError("input_size must be a multiple of 2^levels = " +
                                std::to_string(1 << levels));
@@ -89,6 +99,7 @@ InputFormat NetworkConfig::inputFormat() const {
   InputFormat format{input_size, depth_gaps == "filled" ? DepthGaps::kFilled : DepthGaps::kFar,
                      bounding_surfaces == "cleared", depth_reference == "radius"};
   format.view_crop = view_crop;
+  format.view_field_of_view = view_field_of_view;
   return format;
 }
 
@@ -100,14 +111,15 @@ nlohmann::json NetworkConfig::toJson() const {
   if (bounding_surfaces == "kept") json.erase("bounding_surfaces");
   if (depth_reference == "metres") json.erase("depth_reference");
   if (view_crop == 1.0) json.erase("view_crop");
+  if (view_field_of_view == 0.0) json.erase("view_field_of_view");
   return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    // "far", 0, "kept", "metres" and 1 when absent: recorded before they existed.
+    // "far", 0, "kept", "metres", 1 and 0 when absent: recorded before they existed.
     if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces" ||
-        key == "depth_reference" || key == "view_crop") {
+        key == "depth_reference" || key == "view_crop" || key == "view_field_of_view") {
       continue;
     }
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));

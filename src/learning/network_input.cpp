@@ -171,6 +171,39 @@ cv::Rect viewCropRect(const cv::Size& image_size, double view_crop) {
   return cv::Rect((image_size.width - width) / 2, (image_size.height - height) / 2, width, height);
 }
 
+cv::Rect seenViewRect(const cv::Size& image_size, const CameraIntrinsics& intrinsics,
+                      const InputFormat& format) {
+  if (format.view_field_of_view == 0.0) return viewCropRect(image_size, format.view_crop);
+  if (!(format.view_field_of_view > 0.0 && format.view_field_of_view < M_PI)) {
+    throw InvalidArgumentError("network input: view_field_of_view must lie in (0, pi) rad");
+  }
+  if (!(intrinsics.fx > 0.0 && intrinsics.fy > 0.0)) {
+    throw InvalidArgumentError(
+        "network input: this model sees a fixed angle of view (view_field_of_view), which needs "
+        "the camera's intrinsics; none were given");
+  }
+  const double tangent = std::tan(0.5 * format.view_field_of_view);
+  const double half_width = intrinsics.fx * tangent;   // [px]
+  const double half_height = intrinsics.fy * tangent;  // [px]
+  // Pixel i spans [i - 0.5, i + 0.5] about the principal point's coordinates.
+  const int left = static_cast<int>(std::lround(intrinsics.cx + 0.5 - half_width));
+  const int top = static_cast<int>(std::lround(intrinsics.cy + 0.5 - half_height));
+  const int right = static_cast<int>(std::lround(intrinsics.cx + 0.5 + half_width));
+  const int bottom = static_cast<int>(std::lround(intrinsics.cy + 0.5 + half_height));
+  return cv::Rect(left, top, std::max(1, right - left), std::max(1, bottom - top));
+}
+
+cv::Mat viewPart(const cv::Mat& image, const cv::Rect& rect, const cv::Scalar& fill,
+                 cv::Mat& padded) {
+  const cv::Rect whole(cv::Point(0, 0), image.size());
+  if ((rect & whole) == rect) return image(rect);
+  padded.create(rect.size(), image.type());
+  padded.setTo(fill);
+  const cv::Rect inside = rect & whole;
+  if (!inside.empty()) image(inside).copyTo(padded(inside - rect.tl()));
+  return padded;
+}
+
 CameraIntrinsics croppedIntrinsics(const CameraIntrinsics& intrinsics, const cv::Rect& crop) {
   CameraIntrinsics cropped = intrinsics;
   cropped.width = crop.width;
@@ -210,6 +243,11 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputForm
         "cleared), which needs the camera's intrinsics; frames without them (the datasets') "
         "cannot be its input");
   }
+  if (format.view_field_of_view > 0.0) {
+    throw InvalidArgumentError(
+        "network input: this model sees a fixed angle of view (view_field_of_view), which needs "
+        "the camera's intrinsics; frames without them cannot be its input");
+  }
   if (format.view_crop != 1.0 && !rgb.empty() && rgb.size() == depth.size()) {
     const cv::Rect crop = viewCropRect(rgb.size(), format.view_crop);
     writeImages(rgb(crop), depth(crop), format, scratch, out);
@@ -225,13 +263,21 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
         "network input: this model clears the view's floors and walls (bounding_surfaces: "
         "cleared) and needs the camera's intrinsics; none were given");
   }
-  if (format.view_crop != 1.0 && !rgb.empty() && rgb.size() == depth.size()) {
-    // The crop, as if a camera saw only it (no pixel copied).
-    const cv::Rect crop = viewCropRect(rgb.size(), format.view_crop);
+  if (format.cropsView() && !rgb.empty() && rgb.size() == depth.size()) {
+    // The crop, as if a camera saw only it (no pixel copied unless it reaches beyond the image:
+    // black and no depth there).
+    const cv::Rect crop = seenViewRect(rgb.size(), intrinsics, format);
     InputFormat whole = format;
     whole.view_crop = 1.0;
-    writeNetworkInput(rgb(crop), depth(crop), croppedIntrinsics(intrinsics, crop), whole, scratch,
-                      out);
+    whole.view_field_of_view = 0.0;
+    if (crop == cv::Rect(cv::Point(0, 0), rgb.size())) {
+      writeNetworkInput(rgb, depth, intrinsics, whole, scratch, out);
+      return;
+    }
+    const float no_depth = std::numeric_limits<float>::quiet_NaN();
+    writeNetworkInput(viewPart(rgb, crop, cv::Scalar::all(0), scratch.rgb_padded),
+                      viewPart(depth, crop, cv::Scalar::all(no_depth), scratch.depth_padded),
+                      croppedIntrinsics(intrinsics, crop), whole, scratch, out);
     return;
   }
   writeImages(rgb, depth, format, scratch, out);

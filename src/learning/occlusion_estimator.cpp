@@ -84,9 +84,11 @@ std::int64_t OcclusionEstimator::occludedPixelsAt(double probability) {
   const cv::Mat logits(size, size, CV_32FC1, last_logits_.data_ptr<float>());
   cv::compare(logits, logit_threshold, other_small_mask_, cv::CMP_GT);
   if (surfaces_) clearFoundSurfaces(other_small_mask_);
-  // At the size of the part of the image the network saw: the rest is never occluded.
-  cv::resize(other_small_mask_, other_mask_, last_image_size_, 0.0, 0.0, cv::INTER_NEAREST);
-  return cv::countNonZero(other_mask_);
+  // At the size of the part of the image the network saw, counted inside the image: the rest is
+  // never occluded.
+  cv::resize(other_small_mask_, other_mask_, last_seen_.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  const cv::Rect inside = last_seen_ & cv::Rect(cv::Point(0, 0), last_image_size_);
+  return cv::countNonZero(other_mask_(inside - last_seen_.tl()));
 }
 
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
@@ -108,19 +110,30 @@ OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat
   }
   estimate.mean_probability = probability_sum / (static_cast<double>(size) * size);
   last_logits_ = logits;  // for occludedPixelsAt()
-  // The part of the image the network saw (all of it but for a model with a view_crop); nothing
-  // outside it is estimated occluded.
-  const cv::Rect seen = viewCropRect(rgb.size(), format_.view_crop);
-  last_image_size_ = seen.size();
+  // The part of the image the network saw (all of it but for a model with a view_crop or a
+  // view_field_of_view, whose part may reach beyond the image); nothing outside it is estimated
+  // occluded.
+  const cv::Rect seen = seenViewRect(rgb.size(), intrinsics, format_);
+  const cv::Rect whole(cv::Point(0, 0), rgb.size());
+  const cv::Rect inside = seen & whole;
+  last_seen_ = seen;
+  last_image_size_ = rgb.size();
   if (surfaces_) {
+    const float no_depth = std::numeric_limits<float>::quiet_NaN();
     estimate.cleared_pixels =
-        clearBoundingSurfaces(depth(seen), croppedIntrinsics(intrinsics, seen), seen.size());
+        clearBoundingSurfaces(viewPart(depth, seen, cv::Scalar::all(no_depth), seen_depth_),
+                              croppedIntrinsics(intrinsics, seen), seen.size());
   }
   mask.create(rgb.size(), CV_8UC1);
-  if (seen.size() != rgb.size()) mask.setTo(0);
+  if (seen != whole) mask.setTo(0);
   // Nearest neighbour: every image pixel takes its network pixel's verdict.
-  cv::Mat seen_mask = mask(seen);
-  cv::resize(small_mask_, seen_mask, seen.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  if (inside == seen) {
+    cv::Mat seen_mask = mask(seen);
+    cv::resize(small_mask_, seen_mask, seen.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  } else {
+    cv::resize(small_mask_, seen_mask_, seen.size(), 0.0, 0.0, cv::INTER_NEAREST);
+    if (!inside.empty()) seen_mask_(inside - seen.tl()).copyTo(mask(inside));
+  }
   estimate.occluded_pixels = cv::countNonZero(mask);
   return estimate;
 }

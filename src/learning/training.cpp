@@ -67,7 +67,7 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
   const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
   const torch::Tensor input = torch::empty({4, size, size});
-  cv::Mat mask_small;
+  cv::Mat mask_small, mask_padded;
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = first + k;
     const dataset::Frame& frame = *frames[k];
@@ -75,8 +75,11 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
     writeNetworkInput(data.readRgb(frame), data.readDepthMeters(frame), frame.intrinsics,
                       format.atRadius(frameRadius(frame)), scratch, input.data_ptr<float>());
     samples.inputs[i].copy_(input);
+    // The labels of the part of the view the network sees (nothing occluded beyond the image).
     const cv::Mat whole_mask = data.readOcclusionMask(frame);
-    const cv::Mat mask = whole_mask(viewCropRect(whole_mask.size(), format.view_crop));
+    const cv::Mat mask =
+        viewPart(whole_mask, seenViewRect(whole_mask.size(), frame.intrinsics, format),
+                 cv::Scalar::all(0), mask_padded);
     cv::resize(mask, mask_small, cv::Size(size, size), 0, 0, cv::INTER_AREA);
     // Occluded (1) where at least mask_coverage of the pixel's area is, written into the
     // sample's bytes.
@@ -658,6 +661,7 @@ nlohmann::json initialModelManifest(const TrainingOptions& options) {
     json.erase("bounding_surfaces");
     json.erase("depth_reference");
     json.erase("view_crop");
+    json.erase("view_field_of_view");
     json.erase("input_size");
     json.erase("escape_bins");
     return json;

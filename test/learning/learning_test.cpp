@@ -832,6 +832,29 @@ TEST(LearningTest, SamplesHoldEachFramesInputCompactly) {
     EXPECT_TRUE(torch::equal(centres.train.masks[row], mask)) << "cropped frame " << row;
     ++row;
   }
+
+  // With a view_field_of_view narrower than the frames' camera, both are its middle, found from
+  // each frame's intrinsics.
+  InputFormat angle(32);
+  angle.view_field_of_view = 40.0 * M_PI / 180.0;
+  const TrainingData middles = loadTrainingData(data_dir.string(), angle);
+  row = 0;
+  for (const dataset::Frame& frame : bop.frames()) {
+    if (frame.validation) continue;
+    writeNetworkInput(bop.readRgb(frame), bop.readDepthMeters(frame), frame.intrinsics, angle,
+                      scratch, expected.data_ptr<float>());
+    const torch::Tensor held = middles.train.inputs[row].to(torch::kFloat);
+    EXPECT_LE((held - expected).abs().max().item<float>(), 2e-3f) << "40 deg frame " << row;
+    const cv::Mat whole = bop.readOcclusionMask(frame);
+    const cv::Rect seen = seenViewRect(whole.size(), frame.intrinsics, angle);
+    EXPECT_LT(seen.width, whole.cols * 0.7) << "40 deg of the frames' 60";
+    cv::Mat area;
+    cv::resize(whole(seen), area, cv::Size(32, 32), 0, 0, cv::INTER_AREA);
+    const cv::Mat occluded = (area >= 128) / 255;
+    const torch::Tensor mask = torch::from_blob(occluded.data, {1, 32, 32}, torch::kUInt8);
+    EXPECT_TRUE(torch::equal(middles.train.masks[row], mask)) << "40 deg frame " << row;
+    ++row;
+  }
   fs::remove_all(data_dir);
 }
 
@@ -981,6 +1004,74 @@ TEST(LearningTest, AViewCropIsTheInputOfTheCentralPartAlone) {
   EXPECT_THROW(config.validate(), InvalidArgumentError);
 }
 
+// view_field_of_view: the network sees a fixed angle of view around the principal point,
+// whatever the camera's own: through a 90 deg camera the middle 60 deg, as a 60 deg camera
+// would see it; the paper's camera at 60 deg unchanged; beyond a narrower image the void.
+TEST(LearningTest, AViewFieldOfViewIsTheSameAngleThroughEveryCamera) {
+  const double sixty = M_PI / 3.0;
+  InputFormat format(32, DepthGaps::kFilled);
+  format.view_field_of_view = sixty;
+  const CameraIntrinsics paper = CameraIntrinsics::fromFieldOfView(128, 128, sixty);
+  EXPECT_EQ(seenViewRect(cv::Size(128, 128), paper, format), cv::Rect(0, 0, 128, 128));
+  // 90 deg over 128 px: fx = 64, 60 deg span 2 * 64 tan(30 deg) = 73.9 px around the centre.
+  const CameraIntrinsics wide = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 2.0);
+  EXPECT_EQ(seenViewRect(cv::Size(128, 128), wide, format), cv::Rect(27, 27, 74, 74));
+  // 45 deg over 128 px: the 60 deg square reaches 25 px beyond each edge.
+  const CameraIntrinsics narrow = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 4.0);
+  const cv::Rect beyond = seenViewRect(cv::Size(128, 128), narrow, format);
+  EXPECT_EQ(beyond, cv::Rect(-25, -25, 178, 178));
+  // The principal point moves the square with it.
+  CameraIntrinsics shifted = wide;
+  shifted.cx += 10.0;
+  EXPECT_EQ(seenViewRect(cv::Size(128, 128), shifted, format), cv::Rect(37, 27, 74, 74));
+  InputFormat no_crop(32);
+  EXPECT_EQ(seenViewRect(cv::Size(100, 60), CameraIntrinsics{}, no_crop), cv::Rect(0, 0, 100, 60));
+  EXPECT_THROW(seenViewRect(cv::Size(128, 128), CameraIntrinsics{}, format), InvalidArgumentError);
+
+  // Two boxes, one in front of the other, and a dropout.
+  cv::Mat rgb(128, 128, CV_8UC3, cv::Scalar(60, 70, 80));
+  cv::Mat depth(128, 128, CV_32FC1, cv::Scalar(3.0f));
+  depth(cv::Rect(40, 40, 30, 30)).setTo(1.5f);
+  rgb(cv::Rect(40, 40, 30, 30)).setTo(cv::Scalar(200, 30, 30));
+  depth(cv::Rect(55, 50, 30, 20)).setTo(1.2f);
+  depth.at<float>(60, 60) = std::nanf("");
+  InputFormat whole = format;
+  whole.view_field_of_view = 0.0;
+  InputScratch scratch;
+  std::vector<float> seen(4 * 32 * 32), alone(4 * 32 * 32);
+  // At the paper's camera: the input of the whole view, bit for bit.
+  writeNetworkInput(rgb, depth, paper, format, scratch, seen.data());
+  writeNetworkInput(rgb, depth, paper, whole, scratch, alone.data());
+  EXPECT_EQ(seen, alone);
+  // Through the wide camera: the input of its middle alone.
+  const cv::Rect middle(27, 27, 74, 74);
+  writeNetworkInput(rgb, depth, wide, format, scratch, seen.data());
+  writeNetworkInput(rgb(middle).clone(), depth(middle).clone(), croppedIntrinsics(wide, middle),
+                    whole, scratch, alone.data());
+  EXPECT_EQ(seen, alone);
+  // Through the narrow camera: the image padded with black and no depth (far) around it.
+  writeNetworkInput(rgb, depth, narrow, format, scratch, seen.data());
+  cv::Mat rgb_padded(178, 178, CV_8UC3, cv::Scalar::all(0));
+  cv::Mat depth_padded(178, 178, CV_32FC1, cv::Scalar::all(std::nanf("")));
+  rgb.copyTo(rgb_padded(cv::Rect(25, 25, 128, 128)));
+  depth.copyTo(depth_padded(cv::Rect(25, 25, 128, 128)));
+  writeNetworkInput(rgb_padded, depth_padded, croppedIntrinsics(narrow, beyond), whole, scratch,
+                    alone.data());
+  EXPECT_EQ(seen, alone);
+  const float far = (1.0f - 0.5f) / 0.25f;
+  EXPECT_FLOAT_EQ(seen[3 * 32 * 32 + 0], far) << "the corner beyond the image: far";
+  EXPECT_THROW(writeNetworkInput(rgb, depth, format, scratch, seen.data()), InvalidArgumentError)
+      << "it needs intrinsics";
+
+  NetworkConfig config;
+  EXPECT_FALSE(config.toJson().contains("view_field_of_view"));
+  config.view_field_of_view = sixty;
+  EXPECT_DOUBLE_EQ(NetworkConfig::fromJson(config.toJson()).inputFormat().view_field_of_view,
+                   sixty);
+  config.view_crop = 0.5;
+  EXPECT_THROW(config.validate(), InvalidArgumentError) << "one crop at a time";
+}
+
 // bounding_surfaces: cleared: a wall behind a box enters as the void (black, far), the box as
 // it is; a model that clears needs the camera's intrinsics, and its manifest says so.
 TEST(LearningTest, AClearedInputSeesTheWallBehindABoxAsTheVoid) {
@@ -1119,11 +1210,7 @@ TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
 
 // A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed);
 // `bounding_surfaces` as the manifest's field.
-std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,
-                                                    const std::string& bounding_surfaces = "kept") {
-  NetworkConfig config;
-  config.input_size = 32;
-  config.bounding_surfaces = bounding_surfaces;
+std::shared_ptr<LoadedModel> constantOcclusionModel(float logit, const NetworkConfig& config) {
   auto model = std::make_shared<LoadedModel>();
   model->network = MultiTaskUNet(config);
   model->network->eval();
@@ -1133,6 +1220,14 @@ std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,
     if (parameter.key() == "occlusion_head.bias") parameter.value().fill_(logit);
   }
   return model;
+}
+
+std::shared_ptr<LoadedModel> constantOcclusionModel(float logit,
+                                                    const std::string& bounding_surfaces = "kept") {
+  NetworkConfig config;
+  config.input_size = 32;
+  config.bounding_surfaces = bounding_surfaces;
+  return constantOcclusionModel(logit, config);
 }
 
 // A fresh 32 px network whose gradient and escape heads both say (sin, cos), whatever they see.
@@ -1376,22 +1471,21 @@ TEST(LearningTest, OcclusionEstimateIsTheThresholdedMapAtTheImagesSize) {
 
   // A model with a view crop estimates the centre of the image only, at the image's size.
   config.view_crop = 0.5;
-  auto cropping = constantOcclusionModel(1.0f);
-  cropping->network = MultiTaskUNet(config);
-  cropping->network->eval();
-  {
-    torch::NoGradGuard no_grad;
-    for (auto& parameter : cropping->network->named_parameters()) {
-      if (parameter.key() == "occlusion_head.weight") parameter.value().zero_();
-      if (parameter.key() == "occlusion_head.bias") parameter.value().fill_(1.0f);
-    }
-  }
-  OcclusionEstimator centre(cropping, 0.5);
+  OcclusionEstimator centre(constantOcclusionModel(1.0f, config), 0.5);
   EXPECT_EQ(centre.estimate(rgb, depth, intrinsics, mask).occluded_pixels, 24 * 40);
   EXPECT_EQ(mask.size(), rgb.size());
   EXPECT_EQ(cv::countNonZero(mask(cv::Rect(20, 12, 40, 24))), 24 * 40) << "the crop, all of it";
   EXPECT_EQ(centre.occludedPixelsAt(0.6), 24 * 40);
   EXPECT_EQ(centre.occludedPixelsAt(0.9), 0);
+
+  // A model with a view_field_of_view wider than the camera's estimates inside the image only.
+  config.view_crop = 1.0;
+  config.view_field_of_view = 2.0 * std::atan(2.0 * std::tan(0.5));  // the camera: 1 rad
+  OcclusionEstimator wider(constantOcclusionModel(1.0f, config), 0.5);
+  EXPECT_EQ(wider.estimate(rgb, depth, intrinsics, mask).occluded_pixels, rgb.rows * rgb.cols)
+      << "twice the camera's tangent: the image is the middle half of what it sees";
+  EXPECT_EQ(mask.size(), rgb.size());
+  EXPECT_EQ(wider.occludedPixelsAt(0.6), rgb.rows * rgb.cols);
 
   EXPECT_THROW(OcclusionEstimator(nullptr), InvalidArgumentError);
   EXPECT_THROW(OcclusionEstimator(model, 1.0), InvalidArgumentError);

@@ -40,8 +40,9 @@ struct NetworkConfig {
   std::string bounding_surfaces = "kept";
   // metres | radius: depth as read, or relative to the camera's radius (network_input.hpp)
   std::string depth_reference = "metres";
-  int escape_bins = 0;     // directions scored by the escape-bins head; 0 = no such head
-  double view_crop = 1.0;  // the centred fraction of the view's width and height it sees
+  int escape_bins = 0;              // directions scored by the escape-bins head; 0 = no such head
+  double view_crop = 1.0;           // the centred fraction of the view's width and height it sees
+  double view_field_of_view = 0.0;  // [rad] the angle of view it sees; 0: as view_crop says
 
   bool residual() const { return variant != "unet"; }
   bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
@@ -55,8 +56,9 @@ struct NetworkConfig {
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
   /// Refuses unknown names and a missing field (every manifest states the whole network), but
-  /// depth_gaps, escape_bins, bounding_surfaces, depth_reference and view_crop, which models
-  /// recorded before they existed lack: "far", 0, "kept", "metres" and 1.
+  /// depth_gaps, escape_bins, bounding_surfaces, depth_reference, view_crop and
+  /// view_field_of_view, which models recorded before they existed lack: "far", 0, "kept",
+  /// "metres", 1 and 0.
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 

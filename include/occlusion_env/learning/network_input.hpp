@@ -63,6 +63,10 @@ struct InputFormat {
   bool depth_per_radius;         // depth enters relative to the camera's radius (radius_m)
   double radius_m = 0.0;         // [m] the camera's distance from the sphere's centre; 0: unknown
   double view_crop = 1.0;        // the centred fraction of the view's width and height it sees
+  double view_field_of_view = 0.0;  // [rad] the angle of view it sees; 0: as view_crop says
+
+  /// Whether the network sees a part of the view only (view_crop or view_field_of_view).
+  bool cropsView() const { return view_crop != 1.0 || view_field_of_view > 0.0; }
 
   /// This format for a view from `camera_radius_m` [m] (used only when depth_per_radius).
   InputFormat atRadius(double camera_radius_m) const;
@@ -81,11 +85,25 @@ inline double cameraRadius(const Eigen::Isometry3d& sphere_from_optical) {
 /// of its width and height (at least 1 px each), the whole image at 1.
 cv::Rect viewCropRect(const cv::Size& image_size, double view_crop);
 
+/// The part of an image of `image_size`, seen with `intrinsics`, that a network in `format` sees:
+/// with a view_field_of_view, the square of that angle around the principal point (fx and fy
+/// times its half-angle's tangent either side, rounded to whole pixels), which may reach beyond
+/// the image; else viewCropRect. Throws InvalidArgumentError for a view_field_of_view outside
+/// (0, pi) or intrinsics without focal lengths when it needs them.
+cv::Rect seenViewRect(const cv::Size& image_size, const CameraIntrinsics& intrinsics,
+                      const InputFormat& format);
+
+/// `image`'s part `rect`: a view into it (no copy) when `rect` lies inside it, else a copy into
+/// `padded` (sized once) with `fill` where `rect` reaches beyond it.
+cv::Mat viewPart(const cv::Mat& image, const cv::Rect& rect, const cv::Scalar& fill,
+                 cv::Mat& padded);
+
 /// `intrinsics` of a whole image, for its part `crop`.
 CameraIntrinsics croppedIntrinsics(const CameraIntrinsics& intrinsics, const cv::Rect& crop);
 
 /// The resized images between calls (no allocation once sized).
 struct InputScratch {
+  cv::Mat rgb_padded, depth_padded;  // a view's part where it reaches beyond the image
   cv::Mat depth_filled, valid, rgb_small, depth_small, valid_small;
   cv::Mat grid_depth, on_surface;  // size x size: mean depth [m], 255 on a bounding surface
   std::unique_ptr<BoundingSurfaceFinder> surfaces;  // made on first use
@@ -114,13 +132,14 @@ void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
 /// `format` into `out` (4 * size * size floats, channel-major), of the view's crop
 /// (viewCropRect) when the format has one. Throws InvalidArgumentError on
-/// wrong types or sizes, and for a format that clears bounding surfaces (it needs intrinsics).
+/// wrong types or sizes, and for a format that clears bounding surfaces or has a
+/// view_field_of_view (they need intrinsics).
 void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& format,
                        InputScratch& scratch, float* out);
 
-/// The same for a camera with `intrinsics` (of rgb and depth): any format. Throws
-/// InvalidArgumentError also when the format clears bounding surfaces and the intrinsics have
-/// no focal length.
+/// The same for a camera with `intrinsics` (of rgb and depth): any format, of the view's part
+/// seenViewRect gives. Throws InvalidArgumentError also when the format clears bounding surfaces
+/// or has a view_field_of_view and the intrinsics have no focal length.
 void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraIntrinsics& intrinsics,
                        const InputFormat& format, InputScratch& scratch, float* out);
 

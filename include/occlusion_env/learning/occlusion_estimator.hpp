@@ -70,11 +70,14 @@ class OcclusionEstimator {
   InputScratch scratch_;
   torch::Tensor input_;
   cv::Mat small_mask_;  // at the network's resolution
-  // The last estimate's logits ([1, 1, S, S], kept, not copied) and the size of the part of the
-  // image they cover, for occludedPixelsAt().
+  // The last estimate's logits ([1, 1, S, S], kept, not copied), the part of the image they
+  // cover (seenViewRect: it may reach beyond a narrow camera's image) and the image's size, for
+  // occludedPixelsAt().
   torch::Tensor last_logits_;
+  cv::Rect last_seen_;
   cv::Size last_image_size_;
   cv::Mat other_small_mask_, other_mask_;  // occludedPixelsAt()'s, reused
+  cv::Mat seen_depth_, seen_mask_;  // the seen part where it reaches beyond the image, reused
   // With surfaces: the finder, run on the network pixels' mean depths (network_input.hpp).
   std::optional<BoundingSurfaceFinder> surfaces_;
 };
