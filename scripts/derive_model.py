@@ -22,17 +22,31 @@ def sha256(path):
     return digest.hexdigest()
 
 
+def number_or_text(value):
+    try:
+        return int(value)
+    except ValueError:
+        pass
+    try:
+        return float(value)
+    except ValueError:
+        return value
+
+
 def main(argv):
     if len(argv) < 4 or any("=" not in a for a in argv[3:]):
         sys.exit(__doc__)
-    source, name, changes = argv[1], argv[2], dict(a.split("=", 1) for a in argv[3:])
+    source, name = argv[1], argv[2]
+    # A number enters the manifest as a number (view_crop=0.5), anything else as text (far).
+    changes = {k: number_or_text(v) for k, v in (a.split("=", 1) for a in argv[3:])}
     source_json = os.path.splitext(source)[0] + ".json"
     if not (os.path.isfile(source) and os.path.isfile(source_json)):
         sys.exit(f"derive_model: {source} or its manifest {source_json} is missing")
     manifest = json.load(open(source_json))
-    # Fields that older manifests lack (their defaults: far, kept, metres, 1).
+    # Fields that older manifests lack (their defaults: far, kept, metres, 1, 0).
     unknown = [f for f in changes if f not in manifest["network"]
-               and f not in ("depth_gaps", "bounding_surfaces", "depth_reference", "view_crop")]
+               and f not in ("depth_gaps", "bounding_surfaces", "depth_reference", "view_crop",
+                             "view_field_of_view")]
     if unknown:
         sys.exit(f"derive_model: no network field {', '.join(unknown)} in {source_json}")
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

@@ -180,6 +180,28 @@ def test_bridge_summaries_name_the_launch_defaults_they_ran(tmp_path):
     assert "--agent-model" not in command
 
 
+def test_robustness_table_of_some_conditions_without_agents():
+    robustness = load_robustness()
+    check = {"iou": 0.423, "escape_deg": 51.25, "frames": 300}
+    results = {"randomised": {"a": {"check": check}, "b": {"check": dict(check, iou=0.1)}},
+               "void, ideal": {"a": {"check": check}, "b": {"check": check}}}
+    lines = robustness.markdown(results, [("a", "A.pt"), ("b", "B.pt")], []).splitlines()
+    assert lines[0] == "| condition | IoU a | IoU b | escape error a | escape error b |"
+    # In the conditions' own order, whatever the results' order; the others left out.
+    assert lines[2] == "| void, ideal | 42.3 % | 42.3 % | 51.2 deg | 51.2 deg |"
+    assert lines[3] == "| randomised | 42.3 % | 10.0 % | 51.2 deg | 51.2 deg |"
+    assert len(lines) == 4
+
+
+def test_derived_model_fields_keep_their_json_types():
+    derive_model = load_script("derive_model")
+    # A number must reach the manifest as one: the network's table reads view_crop and
+    # view_field_of_view as numbers and refuses text.
+    assert derive_model.number_or_text("1.0471975512") == 1.0471975512
+    assert derive_model.number_or_text("0") == 0 and isinstance(derive_model.number_or_text("0"), int)
+    assert derive_model.number_or_text("filled") == "filled"
+
+
 PPO_RATE = os.path.join(ROOT, "scripts", "ppo_rate.py")
 
 
