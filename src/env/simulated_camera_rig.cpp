@@ -54,12 +54,18 @@ BridgedSimulator::BridgedSimulator(Environment& simulator, CameraEnvironmentOpti
 CameraEnvironmentOptions BridgedSimulator::onTheSimulatorsSphere(const Environment& simulator,
                                                                  CameraEnvironmentOptions options) {
   const EnvironmentOptions& simulated = simulator.options();
-  if (simulated.camera_randomization.enabled) {
-    throw InvalidArgumentError(
-        "the camera bridge needs one camera radius (its sphere is fixed): switch off the "
-        "camera randomisation");
-  }
   options.radius_m = simulated.radius_m;
+  const CameraRandomization& drawn = simulated.camera_randomization;
+  if (drawn.enabled) {
+    // The rest of the camera may be drawn per scene (field of view, resolution, intrinsics: the
+    // bridge reads them from each frame), but its sphere is fixed.
+    if (drawn.radius_range_m.size() != 2 || drawn.radius_range_m[0] != drawn.radius_range_m[1]) {
+      throw InvalidArgumentError(
+          "the camera bridge needs one camera radius (its sphere is fixed): give the camera "
+          "randomisation one radius (radius_range r,r) or switch it off");
+    }
+    options.radius_m = drawn.radius_range_m[0];
+  }
   options.elevation_limit_rad = simulated.elevation_limit_rad;
   options.step_size_rad = simulated.step_size_rad;
   options.normalize_action = simulated.normalize_action;

@@ -84,6 +84,28 @@ TEST(CameraEnvironment, OnTheSimulatorWithTheTruthItPlaysTheSimulatorsEpisodes) 
   EXPECT_THROW(bridge.privilegedObservation(), InvalidStateError);
 }
 
+// The bridge in front of a simulator that draws its camera per scene: the field of view may be
+// drawn (the bridge reads each frame's intrinsics), the radius only as one value, its sphere.
+TEST(CameraEnvironment, InFrontOfADrawnCameraItKeepsOneSphere) {
+  EnvironmentOptions drawn = simulatorOptions();
+  drawn.width = drawn.height = 128;  // enough pixels at 86 deg for a start view with occlusion
+  drawn.camera_randomization.enabled = true;
+  drawn.camera_randomization.radius_range_m = {1.0, 1.0};
+  drawn.camera_randomization.field_of_view_range_rad = {1.5, 1.5};
+  drawn.camera_randomization.resolution_scale_range = {1.0, 1.0};
+  drawn.camera_randomization.focal_length_jitter = 0.0;
+  Environment simulator(drawn);
+  BridgedSimulator bridged(simulator, CameraEnvironmentOptions{}, nullptr);
+  EXPECT_DOUBLE_EQ(bridged.bridge().options().radius_m, 1.0);
+  const StepResult start = bridged.bridge().reset(3);
+  EXPECT_NEAR(start.info.world_from_optical.translation().norm(), 1.0, 1e-9);
+  EXPECT_EQ(start.info.intrinsics.fx, simulator.intrinsics().fx) << "the drawn camera's";
+  EXPECT_NEAR(start.info.intrinsics.fx, 0.5 * 128 / std::tan(0.75), 1e-9) << "1.5 rad wide";
+  drawn.camera_randomization.radius_range_m = {0.5, 1.5};
+  Environment ranged(drawn);
+  EXPECT_THROW(BridgedSimulator(ranged, CameraEnvironmentOptions{}, nullptr), InvalidArgumentError);
+}
+
 TEST(CameraEnvironment, WithoutAnEstimatorOnlyMaxStepsEndsAnEpisode) {
   Environment stand_in(simulatorOptions());
   SimulatedCameraRig rig(stand_in);

@@ -42,8 +42,10 @@ class SimulatedCameraRig : public CameraRig {
 /// rule and estimator as given. The simulator's truth scores where the bridge's camera is.
 class BridgedSimulator {
  public:
-  /// `simulator` and `estimator` must outlive this. Throws InvalidArgumentError when the
-  /// simulator draws its camera per scene (the bridge's sphere is fixed).
+  /// `simulator` and `estimator` must outlive this. The bridge's sphere is the simulator's, or
+  /// the one radius its camera randomisation draws (the rest of the camera, such as the field of
+  /// view, may be drawn per scene). Throws InvalidArgumentError when it draws the radius from a
+  /// range (the bridge's sphere is fixed).
   BridgedSimulator(Environment& simulator, CameraEnvironmentOptions options,
                    ViewOcclusionEstimator* estimator, bool millimetre_depth = false);
 
