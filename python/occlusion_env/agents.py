@@ -47,6 +47,8 @@ def load(name, model_path="", env=None, step_size=None, normalize_action=None):
     """The agent `name` (see names()). `model_path`: a trained model for the learned agents (""
     = the shipped one). `env`: the environment the actions are for; its step_size and
     normalize_action options apply (else the arguments, else sim.yaml's defaults 0.05 and True).
+    An in-process env also gives the agent its camera's intrinsics and frame, which models that
+    clear floors and walls, read depth per radius or see a fixed angle of view need.
     """
     entry = next((e for e in entries() if e["name"] == name), None)
     if entry is None:
@@ -54,13 +56,13 @@ def load(name, model_path="", env=None, step_size=None, normalize_action=None):
     options = getattr(getattr(env, "unwrapped", env), "options", {}) if env is not None else {}
     step_size = float(step_size or options.get("step_size", 0.05))
     normalize = options.get("normalize_action", True) if normalize_action is None else normalize_action
-    simulator = None
-    if entry["needs_simulator"]:
-        unwrapped = getattr(env, "unwrapped", env)
-        if unwrapped is None or not hasattr(unwrapped, "simulator"):
-            raise InvalidArgumentError(
-                f"agent {name!r} reads the simulation: give env=, an in-process OcclusionEnv")
-        simulator = unwrapped.simulator
+    # An in-process environment: the simulation for the agents that read it, and for every agent
+    # the camera's intrinsics and frame of the view it acts on (what a driver and tf would give).
+    unwrapped = getattr(env, "unwrapped", env)
+    simulator = getattr(unwrapped, "simulator", None) if unwrapped is not None else None
+    if entry["needs_simulator"] and simulator is None:
+        raise InvalidArgumentError(
+            f"agent {name!r} reads the simulation: give env=, an in-process OcclusionEnv")
     native = _agents.Agent(name, model_path or "", simulator, step_size, bool(normalize))
     agent = Agent(name, native, step_size)
     agent.action_space = spaces.action_space()

@@ -42,7 +42,9 @@ const AgentRegistry& registry() {
 /// An agent called with observations in Python's encoding; answers actions in [-1, 1] units of
 /// step_size that the environment turns into the very move the agent chose. Python's observation
 /// holds the images and the pose: the agent's RigObservation gets the last action and the step
-/// index counted here since reset(), and no intrinsics (fx = fy = 0) or camera frame (identity).
+/// index counted here since reset(); the camera's intrinsics and frame from the environment it
+/// was made with (env=) when the images are that environment's size, else none (fx = fy = 0,
+/// identity).
 class PythonAgent {
  public:
   PythonAgent(const std::string& name, const std::string& model_path, py::object environment,
@@ -55,7 +57,9 @@ class PythonAgent {
       detached_ = std::make_unique<ObservationsOnly>();
       target = detached_.get();
     } else {
-      target = &environment_owner_.cast<PythonEnvironment&>().environment();
+      Environment& environment = environment_owner_.cast<PythonEnvironment&>().environment();
+      attached_ = &environment;
+      target = &environment;
     }
     agent_ = registry().make(name, AgentContext{*target, model_path});
   }
@@ -79,6 +83,16 @@ class PythonAgent {
     if (!pose || pose.size() != 2) throw InvalidArgumentError("pose must hold 2 numbers");
     info_.pose = {pose.at(0), pose.at(1)};
     info_.intrinsics = {observation_.rgb.cols, observation_.rgb.rows, 0.0, 0.0, 0.0, 0.0};
+    info_.world_from_optical = Eigen::Isometry3d::Identity();
+    if (attached_ != nullptr) {
+      // The environment's current view: what a camera's driver and the rig's tf would give.
+      const StepInfo& now = attached_->info();
+      if (now.intrinsics.width == observation_.rgb.cols &&
+          now.intrinsics.height == observation_.rgb.rows) {
+        info_.intrinsics = now.intrinsics;
+        info_.world_from_optical = now.world_from_optical;
+      }
+    }
     Action move;
     {
       py::gil_scoped_release release;
@@ -96,6 +110,7 @@ class PythonAgent {
  private:
   py::object environment_owner_;  // keeps the environment of a reference agent alive
   std::unique_ptr<EnvironmentInterface> detached_;
+  const Environment* attached_ = nullptr;  // the environment of a reference agent, or none
   std::unique_ptr<Agent> agent_;
   double step_size_rad_;
   bool normalize_action_;

@@ -1,5 +1,7 @@
 """The package's agents called from Python."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -28,6 +30,24 @@ def test_predicted_escape_acts_on_observations_of_any_source():
     copies = {key: np.array(value) for key, value in observation.items()}
     np.testing.assert_array_equal(agents.load("predicted_escape")(copies), action)
     env.step(action)
+
+
+MODELS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models")
+
+
+def test_a_model_that_sees_an_angle_of_view_takes_the_envs_intrinsics():
+    # The escape network seeing the middle 60 deg of any camera: through the env's own 60 deg
+    # camera the very input, so the very action, of the network without the field; without
+    # env= it has no intrinsics to find its angle in.
+    env = occlusion_env.make(**SIZE)
+    fixed_angle = os.path.join(MODELS, "multitask_unet64_escape_fov60.pt")
+    plain = os.path.join(MODELS, "multitask_unet64_escape.pt")
+    observation, _ = env.reset(seed=1)
+    action = agents.load("predicted_escape", env=env, model_path=fixed_angle)(observation)
+    np.testing.assert_array_equal(
+        action, agents.load("predicted_escape", env=env, model_path=plain)(observation))
+    with pytest.raises(occlusion_env.InvalidArgumentError, match="intrinsics"):
+        agents.load("predicted_escape", model_path=fixed_angle)(observation)
 
 
 def test_agents_that_read_the_simulation_need_the_env():
