@@ -222,12 +222,12 @@ def main():
     for _, path in models:
         if not os.path.exists(path):
             sys.exit("robustness: no model at %s" % path)
-    names = [c for c, _ in CONDITIONS]
-    chosen = [c.strip() for c in args.conditions.split(";") if c.strip()] or names
-    unknown = [c for c in chosen if c not in names]
+    condition_names = [c for c, _ in CONDITIONS]
+    chosen = [c.strip() for c in args.conditions.split(";") if c.strip()] or condition_names
+    unknown = [c for c in chosen if c not in condition_names]
     if unknown:
-        sys.exit("robustness: no condition %s (the conditions: %s)" % (", ".join(unknown),
-                                                                      "; ".join(names)))
+        sys.exit("robustness: no condition %s (the conditions: %s)"
+                 % (", ".join(unknown), "; ".join(condition_names)))
     if not 0.0 < args.mask_coverage <= 1.0:
         sys.exit("robustness: --mask-coverage must lie in (0, 1]")
     scene_sets = [] if args.no_agents else SCENE_SETS

@@ -51,21 +51,23 @@ BridgedSimulator::BridgedSimulator(Environment& simulator, CameraEnvironmentOpti
       rig_(simulator, millimetre_depth),
       bridge_(onTheSimulatorsSphere(simulator, std::move(options)), rig_, estimator) {}
 
+double BridgedSimulator::sphereRadius(const EnvironmentOptions& options) {
+  const CameraRandomization& drawn = options.camera_randomization;
+  if (!drawn.enabled) return options.radius_m;
+  // The rest of the camera may be drawn per scene (field of view, resolution, intrinsics: the
+  // bridge reads them from each frame), but its sphere is fixed.
+  if (drawn.radius_range_m.size() != 2 || drawn.radius_range_m[0] != drawn.radius_range_m[1]) {
+    throw InvalidArgumentError(
+        "the camera bridge needs one camera radius (its sphere is fixed): give the camera "
+        "randomisation one radius (radius_range r,r) or switch it off");
+  }
+  return drawn.radius_range_m[0];
+}
+
 CameraEnvironmentOptions BridgedSimulator::onTheSimulatorsSphere(const Environment& simulator,
                                                                  CameraEnvironmentOptions options) {
   const EnvironmentOptions& simulated = simulator.options();
-  options.radius_m = simulated.radius_m;
-  const CameraRandomization& drawn = simulated.camera_randomization;
-  if (drawn.enabled) {
-    // The rest of the camera may be drawn per scene (field of view, resolution, intrinsics: the
-    // bridge reads them from each frame), but its sphere is fixed.
-    if (drawn.radius_range_m.size() != 2 || drawn.radius_range_m[0] != drawn.radius_range_m[1]) {
-      throw InvalidArgumentError(
-          "the camera bridge needs one camera radius (its sphere is fixed): give the camera "
-          "randomisation one radius (radius_range r,r) or switch it off");
-    }
-    options.radius_m = drawn.radius_range_m[0];
-  }
+  options.radius_m = sphereRadius(simulated);
   options.elevation_limit_rad = simulated.elevation_limit_rad;
   options.step_size_rad = simulated.step_size_rad;
   options.normalize_action = simulated.normalize_action;

@@ -15,6 +15,12 @@ namespace {
 constexpr float kFar = static_cast<float>(kFarDepthM);
 constexpr int kMinValidNeighbours = 4;  // of 8, for a gap to be filled (DepthGaps::kFilled)
 
+InvalidArgumentError noIntrinsicsForTheAngleOfView() {
+  return InvalidArgumentError(
+      "network input: this model sees a fixed angle of view (view_field_of_view), which needs "
+      "the camera's intrinsics; none were given");
+}
+
 float normalisedDepth(float metres) {
   return (metres / kFar - 0.5f) / 0.25f;
 }
@@ -177,11 +183,7 @@ cv::Rect seenViewRect(const cv::Size& image_size, const CameraIntrinsics& intrin
   if (!(format.view_field_of_view > 0.0 && format.view_field_of_view < M_PI)) {
     throw InvalidArgumentError("network input: view_field_of_view must lie in (0, pi) rad");
   }
-  if (!(intrinsics.fx > 0.0 && intrinsics.fy > 0.0)) {
-    throw InvalidArgumentError(
-        "network input: this model sees a fixed angle of view (view_field_of_view), which needs "
-        "the camera's intrinsics; none were given");
-  }
+  if (!(intrinsics.fx > 0.0 && intrinsics.fy > 0.0)) throw noIntrinsicsForTheAngleOfView();
   const double tangent = std::tan(0.5 * format.view_field_of_view);
   const double half_width = intrinsics.fx * tangent;   // [px]
   const double half_height = intrinsics.fy * tangent;  // [px]
@@ -243,11 +245,7 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const InputForm
         "cleared), which needs the camera's intrinsics; frames without them (the datasets') "
         "cannot be its input");
   }
-  if (format.view_field_of_view > 0.0) {
-    throw InvalidArgumentError(
-        "network input: this model sees a fixed angle of view (view_field_of_view), which needs "
-        "the camera's intrinsics; frames without them cannot be its input");
-  }
+  if (format.view_field_of_view > 0.0) throw noIntrinsicsForTheAngleOfView();
   if (format.view_crop != 1.0 && !rgb.empty() && rgb.size() == depth.size()) {
     const cv::Rect crop = viewCropRect(rgb.size(), format.view_crop);
     writeImages(rgb(crop), depth(crop), format, scratch, out);
@@ -267,18 +265,16 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
     // The crop, as if a camera saw only it (no pixel copied unless it reaches beyond the image:
     // black and no depth there).
     const cv::Rect crop = seenViewRect(rgb.size(), intrinsics, format);
-    InputFormat whole = format;
-    whole.view_crop = 1.0;
-    whole.view_field_of_view = 0.0;
-    if (crop == cv::Rect(cv::Point(0, 0), rgb.size())) {
-      writeNetworkInput(rgb, depth, intrinsics, whole, scratch, out);
+    if (crop != cv::Rect(cv::Point(0, 0), rgb.size())) {
+      InputFormat whole = format;
+      whole.view_crop = 1.0;
+      whole.view_field_of_view = 0.0;
+      const float no_depth = std::numeric_limits<float>::quiet_NaN();
+      writeNetworkInput(viewPart(rgb, crop, cv::Scalar::all(0), scratch.rgb_padded),
+                        viewPart(depth, crop, cv::Scalar::all(no_depth), scratch.depth_padded),
+                        croppedIntrinsics(intrinsics, crop), whole, scratch, out);
       return;
-    }
-    const float no_depth = std::numeric_limits<float>::quiet_NaN();
-    writeNetworkInput(viewPart(rgb, crop, cv::Scalar::all(0), scratch.rgb_padded),
-                      viewPart(depth, crop, cv::Scalar::all(no_depth), scratch.depth_padded),
-                      croppedIntrinsics(intrinsics, crop), whole, scratch, out);
-    return;
+    }  // else the whole view: the paper's camera at the model's angle
   }
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;

@@ -9,6 +9,7 @@
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/env/scene_setup.hpp"
+#include "occlusion_env/env/simulated_camera_rig.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
@@ -100,6 +101,9 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
 /// bridge's table in OUT/<set>_bridge.md, then the usual summary of those episodes.
 std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   plan.bridge = cl.bridge;
+  // The estimate reads depth at the sphere the bridge will work on (the simulator's).
+  plan.bridge.radius_m =
+      BridgedSimulator::sphereRadius(environmentOptionsFor(plan.scenes, plan.environment));
   const auto estimator = learning::makeBridgeEstimator(
       std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
   plan.bridge_estimator = estimator.get();

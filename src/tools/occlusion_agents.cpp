@@ -109,10 +109,13 @@ class Environments {
  public:
   explicit Environments(const Arguments& args) : simulator_(simulatorOptions(args)) {
     if (args.through_bridge.empty()) return;
+    // The estimate reads depth at the sphere the bridge will work on (the simulator's).
+    occlusion_env::CameraEnvironmentOptions bridge = args.bridge;
+    bridge.radius_m = occlusion_env::BridgedSimulator::sphereRadius(simulator_.options());
     estimator_ = occlusion_env::learning::makeBridgeEstimator(
         std::make_shared<occlusion_env::learning::LoadedModel>(
             occlusion_env::learning::loadModel(args.through_bridge)),
-        args.bridge);
+        bridge);
     bridged_ = std::make_unique<occlusion_env::BridgedSimulator>(
         simulator_, args.bridge, estimator_.get(), args.millimetre_depth);
   }

@@ -101,7 +101,10 @@ TEST(CameraEnvironment, InFrontOfADrawnCameraItKeepsOneSphere) {
   EXPECT_NEAR(start.info.world_from_optical.translation().norm(), 1.0, 1e-9);
   EXPECT_EQ(start.info.intrinsics.fx, simulator.intrinsics().fx) << "the drawn camera's";
   EXPECT_NEAR(start.info.intrinsics.fx, 0.5 * 128 / std::tan(0.75), 1e-9) << "1.5 rad wide";
+  EXPECT_DOUBLE_EQ(BridgedSimulator::sphereRadius(drawn), 1.0) << "the estimate's radius too";
+  EXPECT_DOUBLE_EQ(BridgedSimulator::sphereRadius(simulatorOptions()), 4.0);
   drawn.camera_randomization.radius_range_m = {0.5, 1.5};
+  EXPECT_THROW(BridgedSimulator::sphereRadius(drawn), InvalidArgumentError);
   Environment ranged(drawn);
   EXPECT_THROW(BridgedSimulator(ranged, CameraEnvironmentOptions{}, nullptr), InvalidArgumentError);
 }

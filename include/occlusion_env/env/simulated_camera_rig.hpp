@@ -49,6 +49,11 @@ class BridgedSimulator {
   BridgedSimulator(Environment& simulator, CameraEnvironmentOptions options,
                    ViewOcclusionEstimator* estimator, bool millimetre_depth = false);
 
+  /// The radius [m] of the sphere the bridge works on in front of a simulator with `options`:
+  /// theirs, or the one radius their camera randomisation draws. Throws InvalidArgumentError
+  /// when that draws the radius from a range (the bridge's sphere is fixed).
+  static double sphereRadius(const EnvironmentOptions& options);
+
   /// What agents act on.
   CameraEnvironment& bridge() { return bridge_; }
   /// The simulator's occlusion L of the view the camera has now [px], and whether it is clear.
