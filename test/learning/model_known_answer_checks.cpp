@@ -50,20 +50,29 @@ std::shared_ptr<LoadedModel> shippedModel() {
   return model;
 }
 
-/// The frames' size [px]: 128, or more for a model that sees the centre of the view (view_crop),
-/// or view_field_of_view, so that its crop is at least its input's size, as from a camera (an
-/// enlarged patch is not what a camera gives). The checks' lengths scale with it, their areas with
-/// its square.
+/// The 60 deg camera of a square frame `size_px` wide.
+CameraIntrinsics frameIntrinsics(int size_px) {
+  return CameraIntrinsics::fromFieldOfView(size_px, size_px, kFieldOfViewRad);
+}
+
+/// The part of a square frame `size_px` wide that the model sees (seenViewRect: the whole frame
+/// for most models), within the frame.
+cv::Rect seenPart(int size_px) {
+  const cv::Rect frame(0, 0, size_px, size_px);
+  return seenViewRect(frame.size(), frameIntrinsics(size_px),
+                      shippedModel()->network->config().inputFormat()) &
+         frame;
+}
+
+/// The frames' size [px]: 128, or more for a model that sees part of the view (view_crop,
+/// view_field_of_view), so that the part it sees is at least its input's size, as from a camera
+/// (an enlarged patch is not what a camera gives). The checks' lengths scale with it, their areas
+/// with its square.
 int frameSize() {
   static const int size = [] {
-    const auto& config = shippedModel()->network->config();
-    // The fraction of the 60 deg frame's width the network sees: its view_crop, or its angle of
-    // view's tangent over the frame's (the square around the principal point: seenViewRect).
-    const double seen_fraction =
-        config.view_field_of_view > 0.0
-            ? std::tan(config.view_field_of_view / 2.0) / std::tan(kFieldOfViewRad / 2.0)
-            : config.view_crop;
-    const int seen = static_cast<int>(std::lround(config.input_size / seen_fraction));
+    const double seen_fraction = static_cast<double>(seenPart(kCheckSize).width) / kCheckSize;
+    const int seen =
+        static_cast<int>(std::lround(shippedModel()->network->config().input_size / seen_fraction));
     const int size = std::max(kCheckSize, seen);
     std::cout << "[checks] frames of " << size << " px\n";
     return size;
@@ -99,10 +108,8 @@ std::int64_t estimatedPixels(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat* 
     return makeBridgeEstimator(shippedModel(), defaults);
   }();
   // The frames' camera: 60 deg horizontal field of view.
-  const CameraIntrinsics intrinsics =
-      CameraIntrinsics::fromFieldOfView(rgb.cols, rgb.rows, kFieldOfViewRad);
   cv::Mat local;
-  return bridge->estimate(rgb, depth, intrinsics, mask ? *mask : local);
+  return bridge->estimate(rgb, depth, frameIntrinsics(rgb.cols), mask ? *mask : local);
 }
 
 /// A little pixel noise, as a camera's, so that the frames are not unnaturally flat.
@@ -136,7 +143,7 @@ TEST(ShippedModelTest, AnEmptyFloorIsNotOcclusion) {
   for (const double height_m : {0.8, 1.5}) {
     for (const double pitch_rad : {0.5, 0.9}) {
       const int size = frameSize();
-      const double focal_px = CameraIntrinsics::fromFieldOfView(size, size, kFieldOfViewRad).fx;
+      const double focal_px = frameIntrinsics(size).fx;
       cv::Mat rgb(size, size, CV_8UC3);
       cv::Mat depth(size, size, CV_32FC1);
       for (int row = 0; row < size; ++row) {
@@ -170,6 +177,18 @@ class SimulatedViews : public ::testing::Test {
   Environment env_{options()};
 };
 
+/// Object k's pixels in `view` [px]: those it shows (instance k + 1) and its whole silhouette
+/// (amodal bit k).
+struct ObjectPixels {
+  int visible;
+  int amodal;
+};
+ObjectPixels objectPixels(const Observation& view, int k) {
+  cv::Mat bit;
+  cv::bitwise_and(view.amodal_bits, cv::Scalar(1 << k), bit);
+  return {cv::countNonZero(view.instance == k + 1), cv::countNonZero(bit)};
+}
+
 /// `image` moved by (dx, dy) px; uncovered pixels get `fill` (the void: black, no depth).
 cv::Mat shifted(const cv::Mat& image, int dx, int dy, const cv::Scalar& fill) {
   const cv::Mat translation = (cv::Mat_<double>(2, 3) << 1, 0, dx, 0, 1, dy);
@@ -188,10 +207,8 @@ TEST_F(SimulatedViews, OneObjectAloneIsNotOcclusion) {
     // alone; everything else becomes the void.
     for (int k = 0; k < 8; ++k) {
       const cv::Mat visible = view.instance == k + 1;
-      const int visible_px = cv::countNonZero(visible);
-      cv::Mat bit;
-      cv::bitwise_and(view.amodal_bits, cv::Scalar(1 << k), bit);
-      if (visible_px < scaledArea(200) || cv::countNonZero(bit) != visible_px) continue;
+      const ObjectPixels object = objectPixels(view, k);
+      if (object.visible < scaledArea(200) || object.amodal != object.visible) continue;
       cv::Mat rgb(view.rgb.size(), CV_8UC3, cv::Scalar::all(0));
       cv::Mat depth(view.depth.size(), CV_32FC1, cv::Scalar(NAN));
       view.rgb.copyTo(rgb, visible);
@@ -210,11 +227,8 @@ TEST_F(SimulatedViews, OneObjectAloneIsNotOcclusion) {
 /// estimated at 0 px (scene 13: an armchair hiding all of one object and all but 4 px of another).
 bool hiddenObjectShows(const Observation& view, double min_visible_px) {
   for (int k = 0; k < 8; ++k) {
-    cv::Mat bit;
-    cv::bitwise_and(view.amodal_bits, cv::Scalar(1 << k), bit);
-    const int amodal_px = cv::countNonZero(bit);
-    const int visible_px = cv::countNonZero(view.instance == k + 1);
-    if (visible_px < amodal_px && visible_px >= min_visible_px) return true;
+    const ObjectPixels object = objectPixels(view, k);
+    if (object.visible < object.amodal && object.visible >= min_visible_px) return true;
   }
   return false;
 }
@@ -243,10 +257,7 @@ TEST_F(SimulatedViews, MovedContentMovesTheEstimate) {
                     shifted(view.depth, dx, dy, cv::Scalar(NAN)), &moved_mask);
     // Compare where both frames show the scene to the network: inside the part of the view it
     // sees (seenViewRect; the whole frame for most networks), before and after the move.
-    const cv::Rect seen =
-        seenViewRect(mask.size(), CameraIntrinsics::fromFieldOfView(size, size, kFieldOfViewRad),
-                     shippedModel()->network->config().inputFormat()) &
-        cv::Rect(0, 0, size, size);
+    const cv::Rect seen = seenPart(size);
     const cv::Rect both = cv::Rect(dx, 0, size - dx, size + dy) & seen & (seen + cv::Point(dx, dy));
     const cv::Mat expected = expected_all(both) > 0, got = moved_mask(both) > 0;
     const double overlap = cv::countNonZero(expected & got);
