@@ -85,7 +85,7 @@ std::string cameraModelPath() {
 }
 
 std::string bridgeModelPath() {
-  return packageShareDirectory() + "/models/multitask_unet64_bridge.pt";
+  return packageShareDirectory() + "/models/multitask_unet128_bridge_fov60.pt";
 }
 
 AgentEntry modelAgentEntry(const std::string& name, const std::string& summary,

@@ -169,7 +169,7 @@ def test_bridge_summaries_name_the_launch_defaults_they_ran(tmp_path):
     assert "--model" not in command and "--agent-model" not in command
     row = robustness.bridge_rows([new]).splitlines()[2]
     assert row.startswith("| agent models/multitask_unet64_camera_agent.pt, "
-                          "bridge models/multitask_unet64_bridge.pt |")
+                          "bridge models/multitask_unet128_bridge_fov60.pt |")
     # A probability given on the command line is rerun with it.
     camera = write_bridge_summary(tmp_path / "camera", model="models/multitask_unet64_camera.pt",
                                   model_is_default=False, occlusion_probability=0.1,

@@ -81,8 +81,8 @@ struct CameraEnvironmentOptions {
   double working_range_factor = 10.0;
   // The stopping rule and reward on the estimate (doc/CAMERA_BRIDGE.md).
   // For the caller's network: a pixel is occluded above it (chosen for the shipped bridge
-  // network by occlusion_bridge_calibration: doc/CAMERA_BRIDGE.md).
-  double occlusion_probability = 0.01;
+  // network by occlusion_bridge_calibration: doc/CAMERA_BRIDGE.md, "The default estimate").
+  double occlusion_probability = 0.05;
   // For the caller's network: estimated occlusion on a floor or wall (occlusion/
   // bounding_surfaces.hpp) is cleared; such a surface shows no object, so none is hidden there.
   bool clear_bounding_surfaces = true;

@@ -56,8 +56,9 @@ std::string escapeModelPath();
 /// The shipped model for a depth camera: the same weights, reading depth with its dropouts filled
 /// (depth_gaps filled, doc/TRAINING.md). The camera bridge's estimate was fine-tuned from it.
 std::string cameraModelPath();
-/// The camera bridge's default network, whose estimate ends an episode: the camera model
-/// fine-tuned on rooms seen from above (doc/TRAINING.md, "Views from above").
+/// The camera bridge's default network, whose estimate ends an episode: a 128 px network of a
+/// fixed 60 deg of the view that passes the known-answer checks (doc/TRAINING.md, "The
+/// known-answer checks against the bridge's stops").
 std::string bridgeModelPath();
 
 /// A registry entry for an agent made from a model file: needs.model_file set, `make` given the
