@@ -39,9 +39,10 @@ struct Arguments {
   std::string agent_model;  // "": the estimate's network
   int scenes = 50;
   long long first_seed = 900000;
-  std::vector<double> thresholds = {0, 16, 64, 256};
-  std::vector<double> probabilities = {0.1, 0.2, 0.3, 0.5};
-  std::vector<double> confirm_views = {1, 2, 3};
+  // The candidates hold the bridge's default rule (config/camera_bridge.yaml: 0.05, 0 px, 5).
+  std::vector<double> thresholds = {0, 16, 64};
+  std::vector<double> probabilities = {0.05, 0.1, 0.2};
+  std::vector<double> confirm_views = {3, 4, 5};
   bool millimetre_depth = false;
   bool clear_bounding_surfaces = occlusion_env::CameraEnvironmentOptions{}.clear_bounding_surfaces;
   int size = 256;
