@@ -380,6 +380,31 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
   return samples;
 }
 
+std::vector<std::string> checkFrameConditions(const std::vector<std::string>& dirs) {
+  std::vector<std::string> conditions;
+  for (const std::string& dir : dirs) {
+    const dataset::BopDataset data(dir);
+    for (const dataset::Frame& frame : data.frames()) {
+      const auto& setup = frame.labels.setup;
+      conditions.push_back(setup ? setup->world + ", " + setup->depth_sensor : "not recorded");
+    }
+  }
+  return conditions;
+}
+
+Samples selectSamples(const Samples& samples, const torch::Tensor& index) {
+  Samples part;
+  part.inputs = samples.inputs.index_select(0, index);
+  part.masks = samples.masks.index_select(0, index);
+  part.gradient = samples.gradient.index_select(0, index);
+  part.gradient_valid = samples.gradient_valid.index_select(0, index);
+  part.escape = samples.escape.index_select(0, index);
+  part.escape_valid = samples.escape_valid.index_select(0, index);
+  part.oracle_steps = samples.oracle_steps.index_select(0, index);
+  part.shortest_moves = samples.shortest_moves.index_select(0, index);
+  return part;
+}
+
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
   const int64_t n = inputs.size(0), size = inputs.size(3);
   const auto reach = static_cast<int64_t>(shift * static_cast<double>(size));

@@ -7,8 +7,10 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -120,6 +122,18 @@ void printEscapeErrors(const nlohmann::json& rows) {
   }
 }
 
+// The check's figures by the world and depth sensor the frames were seen under.
+void printConditions(const nlohmann::json& rows) {
+  std::cout << "by world and depth sensor:\n"
+            << "  world, depth sensor           frames     IoU   escape\n";
+  for (const nlohmann::json& row : rows) {
+    std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
+              << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
+              << std::setprecision(1) << std::setw(7) << 100.0 * row["val_iou"].get<double>()
+              << " %" << std::setw(7) << row["val_escape_angle_deg"].get<double>() << " deg\n";
+  }
+}
+
 // Validation's figures of a model on every frame of datasets it was neither trained nor chosen
 // on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
@@ -148,6 +162,24 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   }
   result["escape_by_oracle_steps"] =
       learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps, escape_shortest);
+  // Frames of several worlds or depth sensors (a randomised set): the figures of each.
+  const std::vector<std::string> conditions = learning::checkFrameConditions(data_dirs);
+  std::map<std::string, std::vector<int64_t>> rows_of;
+  for (std::size_t i = 0; i < conditions.size(); ++i) {
+    rows_of[conditions[i]].push_back(static_cast<int64_t>(i));
+  }
+  if (rows_of.size() > 1) {
+    result["by_condition"] = nlohmann::json::array();
+    for (const auto& [condition, rows] : rows_of) {
+      const learning::Samples part =
+          learning::selectSamples(frames, torch::tensor(rows, torch::kLong));
+      const learning::EpochMetrics pm = learning::evaluate(model.network, part, 64, loss);
+      result["by_condition"].push_back({{"condition", condition},
+                                        {"frames", part.size()},
+                                        {"val_iou", pm.val_iou},
+                                        {"val_escape_angle_deg", pm.val_escape_angle_deg}});
+    }
+  }
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
@@ -166,6 +198,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                     : std::string())
             << " (" << out << ")\n";
   printEscapeErrors(result["escape_by_oracle_steps"]);
+  if (result.contains("by_condition")) printConditions(result["by_condition"]);
   return 0;
 }
 

@@ -620,6 +620,35 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
   for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
 }
 
+// A check's frames are named by the world and depth sensor they were seen under, in the order
+// loadCheckFrames reads them, and selectSamples takes rows of them as they are.
+TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
+  const fs::path void_dir = temporaryDir("occlusion_env_learning_conditions_void");
+  const fs::path room_dir = temporaryDir("occlusion_env_learning_conditions_room");
+  dataset::DatasetOptions void_ideal = tinyDataset(1, 2, 0.0);
+  void_ideal.oracle_labels = false;
+  dataset::generateDataset(void_dir.string(), void_ideal);
+  dataset::DatasetOptions room_d435 = tinyDataset(1, 3, 0.0, 10);
+  room_d435.oracle_labels = false;
+  room_d435.world = "room";
+  room_d435.depth_sensor = "realsense_d435";
+  dataset::generateDataset(room_dir.string(), room_d435);
+
+  const std::vector<std::string> dirs = {void_dir.string(), room_dir.string()};
+  EXPECT_EQ(checkFrameConditions(dirs),
+            (std::vector<std::string>{"void, ideal", "void, ideal", "room, realsense_d435",
+                                      "room, realsense_d435", "room, realsense_d435"}));
+  const Samples frames = loadCheckFrames(dirs, 32, nlohmann::json::object());
+  ASSERT_EQ(frames.size(), 5);
+  const Samples part = selectSamples(frames, torch::tensor({4, 0}, torch::kLong));
+  ASSERT_EQ(part.size(), 2);
+  EXPECT_TRUE(torch::equal(part.inputs[0], frames.inputs[4]));
+  EXPECT_TRUE(torch::equal(part.masks[1], frames.masks[0]));
+  EXPECT_TRUE(torch::equal(part.oracle_steps, frames.oracle_steps.index({torch::tensor({4, 0})})));
+  EXPECT_EQ(part.shortest_moves.size(0), 2);
+  for (const fs::path& dir : {void_dir, room_dir}) fs::remove_all(dir);
+}
+
 // The escape error by the oracle's steps: each labelled frame in its row and in "all", frames
 // without a label in none, rows without frames left out.
 TEST(LearningTest, EscapeErrorsAreGroupedByTheOraclesSteps) {

@@ -79,6 +79,14 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
                         const nlohmann::json& model_manifest,
                         double mask_coverage = kPaperMaskCoverage);
 
+/// What each frame of loadCheckFrames(dirs, ...) was seen under, in the same order: "<world>,
+/// <depth sensor>" from its labels' scene setup (e.g. "room, realsense_d435"), "not recorded"
+/// for frames whose labels name none.
+std::vector<std::string> checkFrameConditions(const std::vector<std::string>& dirs);
+
+/// The rows `index` ([K] int64, in that order) of `samples`.
+Samples selectSamples(const Samples& samples, const torch::Tensor& index);
+
 struct TrainingOptions {
   NetworkConfig network;
   int epochs = 15;
