@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -341,7 +342,8 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 }
 
 Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
-                        const nlohmann::json& model_manifest, double mask_coverage) {
+                        const nlohmann::json& model_manifest, double mask_coverage,
+                        std::vector<std::string>* conditions) {
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   if (!(mask_coverage > 0.0 && mask_coverage <= 1.0)) {
     throw InvalidArgumentError("mask_coverage must be a fraction in (0, 1]");
@@ -373,36 +375,17 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
   int64_t row = 0;
   for (const auto& data : datasets) {
     std::vector<const dataset::Frame*> frames;
-    for (const dataset::Frame& frame : data->frames()) frames.push_back(&frame);
+    for (const dataset::Frame& frame : data->frames()) {
+      frames.push_back(&frame);
+      if (conditions) {
+        const auto& setup = frame.labels.setup;
+        conditions->push_back(setup ? setup->world + ", " + setup->depth_sensor : "not recorded");
+      }
+    }
     fillSamples(*data, frames, format, samples, row, mask_coverage);
     row += static_cast<int64_t>(frames.size());
   }
   return samples;
-}
-
-std::vector<std::string> checkFrameConditions(const std::vector<std::string>& dirs) {
-  std::vector<std::string> conditions;
-  for (const std::string& dir : dirs) {
-    const dataset::BopDataset data(dir);
-    for (const dataset::Frame& frame : data.frames()) {
-      const auto& setup = frame.labels.setup;
-      conditions.push_back(setup ? setup->world + ", " + setup->depth_sensor : "not recorded");
-    }
-  }
-  return conditions;
-}
-
-Samples selectSamples(const Samples& samples, const torch::Tensor& index) {
-  Samples part;
-  part.inputs = samples.inputs.index_select(0, index);
-  part.masks = samples.masks.index_select(0, index);
-  part.gradient = samples.gradient.index_select(0, index);
-  part.gradient_valid = samples.gradient_valid.index_select(0, index);
-  part.escape = samples.escape.index_select(0, index);
-  part.escape_valid = samples.escape_valid.index_select(0, index);
-  part.oracle_steps = samples.oracle_steps.index_select(0, index);
-  part.shortest_moves = samples.shortest_moves.index_select(0, index);
-  return part;
 }
 
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
@@ -552,7 +535,7 @@ torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tenso
 
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg,
-                      torch::Tensor* escape_shortest) {
+                      torch::Tensor* escape_shortest, torch::Tensor* occlusion_counts) {
   double escape_bins_angle = 0.0;
   double escape_shortest_count = 0.0, escape_bins_shortest_count = 0.0, shortest_count = 0.0;
   torch::NoGradGuard no_grad;
@@ -564,6 +547,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   const int64_t n = samples.size();
   if (escape_errors_deg) *escape_errors_deg = torch::full({n}, std::nan(""));
   if (escape_shortest) *escape_shortest = torch::full({n}, std::nan(""));
+  if (occlusion_counts) *occlusion_counts = torch::zeros({n, 2});
   for (int64_t start = 0; start < n; start += batch_size) {
     const int64_t end = std::min<int64_t>(n, start + batch_size);
     const torch::Tensor indices = torch::arange(start, end);
@@ -574,8 +558,14 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
     const torch::Tensor predicted = (out.occlusion_logits > 0.0).to(torch::kFloat);
     correct += (predicted == batch.masks).sum().item<double>();
     pixels += static_cast<double>(batch.masks.numel());
-    intersection += (predicted * batch.masks).sum().item<double>();
-    union_count += ((predicted + batch.masks) > 0.0).sum().item<double>();
+    const torch::Tensor frame_intersections = (predicted * batch.masks).sum({1, 2, 3});
+    const torch::Tensor frame_unions = ((predicted + batch.masks) > 0.0).sum({1, 2, 3});
+    intersection += frame_intersections.sum().item<double>();
+    union_count += frame_unions.sum().item<double>();
+    if (occlusion_counts) {
+      occlusion_counts->slice(0, start, end)
+          .copy_(torch::stack({frame_intersections, frame_unions.to(torch::kFloat)}, 1));
+    }
     gradient_loss += (directionLoss(out.gradient_direction, batch.gradient, direction_loss) *
                       batch.gradient_valid)
                          .sum()
@@ -629,6 +619,29 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_escape_shortest_share = escape_shortest_count / std::max(1.0, shortest_count);
   m.val_escape_bins_shortest_share = escape_bins_shortest_count / std::max(1.0, shortest_count);
   return m;
+}
+
+nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
+                                  const torch::Tensor& occlusion_counts,
+                                  const torch::Tensor& escape_errors_deg) {
+  std::map<std::string, std::vector<int64_t>> rows_of;
+  for (std::size_t i = 0; i < conditions.size(); ++i) {
+    rows_of[conditions[i]].push_back(static_cast<int64_t>(i));
+  }
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& [condition, frames] : rows_of) {
+    const torch::Tensor index = torch::tensor(frames, torch::kLong);
+    const torch::Tensor counts = occlusion_counts.index_select(0, index).sum(0);
+    const double union_px = counts[1].item<double>();
+    nlohmann::json row = {{"condition", condition},
+                          {"frames", static_cast<int64_t>(frames.size())},
+                          {"val_iou", union_px > 0.0 ? counts[0].item<double>() / union_px : 1.0}};
+    const torch::Tensor errors = escape_errors_deg.index_select(0, index);
+    const torch::Tensor labelled = errors.masked_select(errors.isnan().logical_not());
+    if (labelled.numel() > 0) row["mean_escape_deg"] = labelled.mean().item<double>();
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,

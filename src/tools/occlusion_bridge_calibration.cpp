@@ -31,6 +31,8 @@ namespace {
 using occlusion_env::OptionSpec;
 using occlusion_env::OptionTable;
 
+const occlusion_env::CameraEnvironmentOptions kBridge;  // the camera bridge's defaults
+
 /// The tool's own options; the scenes' come from environmentOptionTable().
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
@@ -39,12 +41,12 @@ struct Arguments {
   std::string agent_model;  // "": the estimate's network
   int scenes = 50;
   long long first_seed = 900000;
-  // The candidates hold the bridge's default rule (config/camera_bridge.yaml: 0.05, 0 px, 5).
-  std::vector<double> thresholds = {0, 16, 64};
-  std::vector<double> probabilities = {0.05, 0.1, 0.2};
-  std::vector<double> confirm_views = {3, 4, 5};
+  // The candidates start with the bridge's default rule (CameraEnvironmentOptions).
+  std::vector<double> thresholds = {static_cast<double>(kBridge.occlusion_threshold_px), 16, 64};
+  std::vector<double> probabilities = {kBridge.occlusion_probability, 0.1, 0.2};
+  std::vector<double> confirm_views = {3, 4, static_cast<double>(kBridge.confirm_views)};
   bool millimetre_depth = false;
-  bool clear_bounding_surfaces = occlusion_env::CameraEnvironmentOptions{}.clear_bounding_surfaces;
+  bool clear_bounding_surfaces = kBridge.clear_bounding_surfaces;
   int size = 256;
   std::string views_csv;  // "": no file
 

@@ -7,7 +7,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -130,7 +129,11 @@ void printConditions(const nlohmann::json& rows) {
     std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
               << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
               << std::setprecision(1) << std::setw(7) << 100.0 * row["val_iou"].get<double>()
-              << " %" << std::setw(7) << row["val_escape_angle_deg"].get<double>() << " deg\n";
+              << " %";
+    if (row.contains("mean_escape_deg")) {
+      std::cout << std::setw(7) << row["mean_escape_deg"].get<double>() << " deg";
+    }
+    std::cout << '\n';
   }
 }
 
@@ -143,13 +146,14 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   learning::LoadedModel model = learning::loadModel(model_path);
   const int size = model.network->config().input_size;
   std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";
+  std::vector<std::string> conditions;
   const learning::Samples frames = learning::loadCheckFrames(
-      data_dirs, model.network->config().inputFormat(), model.manifest, mask_coverage);
+      data_dirs, model.network->config().inputFormat(), model.manifest, mask_coverage, &conditions);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
-  torch::Tensor escape_errors_deg, escape_shortest;
-  const learning::EpochMetrics m =
-      learning::evaluate(model.network, frames, 64, loss, &escape_errors_deg, &escape_shortest);
+  torch::Tensor escape_errors_deg, escape_shortest, occlusion_counts;
+  const learning::EpochMetrics m = learning::evaluate(
+      model.network, frames, 64, loss, &escape_errors_deg, &escape_shortest, &occlusion_counts);
   nlohmann::json result = {{"model", model_path},
                            {"datasets", data_dirs},
                            {"frames", frames.size()},
@@ -163,23 +167,9 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   result["escape_by_oracle_steps"] =
       learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps, escape_shortest);
   // Frames of several worlds or depth sensors (a randomised set): the figures of each.
-  const std::vector<std::string> conditions = learning::checkFrameConditions(data_dirs);
-  std::map<std::string, std::vector<int64_t>> rows_of;
-  for (std::size_t i = 0; i < conditions.size(); ++i) {
-    rows_of[conditions[i]].push_back(static_cast<int64_t>(i));
-  }
-  if (rows_of.size() > 1) {
-    result["by_condition"] = nlohmann::json::array();
-    for (const auto& [condition, rows] : rows_of) {
-      const learning::Samples part =
-          learning::selectSamples(frames, torch::tensor(rows, torch::kLong));
-      const learning::EpochMetrics pm = learning::evaluate(model.network, part, 64, loss);
-      result["by_condition"].push_back({{"condition", condition},
-                                        {"frames", part.size()},
-                                        {"val_iou", pm.val_iou},
-                                        {"val_escape_angle_deg", pm.val_escape_angle_deg}});
-    }
-  }
+  const nlohmann::json by_condition =
+      learning::figuresByCondition(conditions, occlusion_counts, escape_errors_deg);
+  if (by_condition.size() > 1) result["by_condition"] = by_condition;
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;

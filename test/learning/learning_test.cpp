@@ -620,8 +620,8 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
   for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
 }
 
-// A check's frames are named by the world and depth sensor they were seen under, in the order
-// loadCheckFrames reads them, and selectSamples takes rows of them as they are.
+// A check's frames are named by the world and depth sensor they were seen under, row by row, and
+// evaluate()'s per-frame counts give each condition's IoU (and all of them the whole IoU).
 TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
   const fs::path void_dir = temporaryDir("occlusion_env_learning_conditions_void");
   const fs::path room_dir = temporaryDir("occlusion_env_learning_conditions_room");
@@ -635,17 +635,38 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
   dataset::generateDataset(room_dir.string(), room_d435);
 
   const std::vector<std::string> dirs = {void_dir.string(), room_dir.string()};
-  EXPECT_EQ(checkFrameConditions(dirs),
+  std::vector<std::string> conditions;
+  const Samples frames =
+      loadCheckFrames(dirs, 32, nlohmann::json::object(), kPaperMaskCoverage, &conditions);
+  ASSERT_EQ(frames.size(), 5);
+  EXPECT_EQ(conditions,
             (std::vector<std::string>{"void, ideal", "void, ideal", "room, realsense_d435",
                                       "room, realsense_d435", "room, realsense_d435"}));
-  const Samples frames = loadCheckFrames(dirs, 32, nlohmann::json::object());
-  ASSERT_EQ(frames.size(), 5);
-  const Samples part = selectSamples(frames, torch::tensor({4, 0}, torch::kLong));
-  ASSERT_EQ(part.size(), 2);
-  EXPECT_TRUE(torch::equal(part.inputs[0], frames.inputs[4]));
-  EXPECT_TRUE(torch::equal(part.masks[1], frames.masks[0]));
-  EXPECT_TRUE(torch::equal(part.oracle_steps, frames.oracle_steps.index({torch::tensor({4, 0})})));
-  EXPECT_EQ(part.shortest_moves.size(0), 2);
+
+  torch::manual_seed(3);
+  NetworkConfig config;
+  config.input_size = 32;
+  MultiTaskUNet network(config);
+  torch::Tensor errors, counts;
+  const EpochMetrics all = evaluate(network, frames, 2, "mse", &errors, nullptr, &counts);
+  ASSERT_EQ(counts.size(0), 5);
+  EXPECT_NEAR(counts.select(1, 0).sum().item<double>() / counts.select(1, 1).sum().item<double>(),
+              all.val_iou, 1e-9);
+  const nlohmann::json rows = figuresByCondition(conditions, counts, errors);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["condition"], "room, realsense_d435");  // in name order
+  EXPECT_EQ(rows[0]["frames"], 3);
+  EXPECT_EQ(rows[1]["condition"], "void, ideal");
+  EXPECT_EQ(rows[1]["frames"], 2);
+  // Each row's IoU is its own frames' alone.
+  Samples room = frames;
+  for (torch::Tensor* field :
+       {&room.inputs, &room.masks, &room.gradient, &room.gradient_valid, &room.escape,
+        &room.escape_valid, &room.oracle_steps, &room.shortest_moves}) {
+    *field = field->slice(0, 2, 5);
+  }
+  EXPECT_NEAR(rows[0]["val_iou"].get<double>(), evaluate(network, room, 2, "mse").val_iou, 1e-6);
+  EXPECT_FALSE(rows[0].contains("mean_escape_deg")) << "no oracle labels, no escape error";
   for (const fs::path& dir : {void_dir, room_dir}) fs::remove_all(dir);
 }
 

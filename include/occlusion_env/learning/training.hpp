@@ -74,18 +74,13 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 /// on, at `size` px: a check of the model beyond the validation scenes by which it was chosen.
 /// Refuses (InvalidArgumentError) a dataset that `model_manifest` lists as trained on (by path)
 /// or whose options equal those of the model's first dataset. Labels as loadTrainingData's at
-/// `mask_coverage`.
-Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
-                        const nlohmann::json& model_manifest,
-                        double mask_coverage = kPaperMaskCoverage);
-
-/// What each frame of loadCheckFrames(dirs, ...) was seen under, in the same order: "<world>,
+/// `mask_coverage`. With `conditions`, what each frame was seen under, row by row: "<world>,
 /// <depth sensor>" from its labels' scene setup (e.g. "room, realsense_d435"), "not recorded"
 /// for frames whose labels name none.
-std::vector<std::string> checkFrameConditions(const std::vector<std::string>& dirs);
-
-/// The rows `index` ([K] int64, in that order) of `samples`.
-Samples selectSamples(const Samples& samples, const torch::Tensor& index);
+Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
+                        const nlohmann::json& model_manifest,
+                        double mask_coverage = kPaperMaskCoverage,
+                        std::vector<std::string>* conditions = nullptr);
 
 struct TrainingOptions {
   NetworkConfig network;
@@ -171,10 +166,13 @@ struct EpochMetrics {
 /// the predicted-escape agent moves by (the escape-bins head's choice when there is one, else the
 /// escape head): with `escape_errors_deg`, its angular error [deg], NaN where a frame has no
 /// escape label; with `escape_shortest`, whether its move is one of the frame's shortest first
-/// moves (1 / 0), NaN where it records none.
+/// moves (1 / 0), NaN where it records none; with `occlusion_counts`, [N, 2] its occlusion
+/// map's intersection and union with the label [px at the network's size] (their sums over the
+/// frames give the IoU).
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg = nullptr,
-                      torch::Tensor* escape_shortest = nullptr);
+                      torch::Tensor* escape_shortest = nullptr,
+                      torch::Tensor* occlusion_counts = nullptr);
 
 /// Targets [B, bins] of the escape-bins head from shortest first moves [B, n] (0 / 1, n a
 /// multiple of bins; bin k is direction k n / bins): each shortest move weighted by how many
@@ -200,6 +198,14 @@ torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tenso
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
                                          const torch::Tensor& oracle_steps,
                                          const torch::Tensor& shortest = {});
+
+/// evaluate()'s per-frame figures by what the frames were seen under (`conditions`, one per
+/// frame, as loadCheckFrames gives them): a row per condition, in name order, with frames,
+/// val_iou (from `occlusion_counts`) and mean_escape_deg (of `escape_errors_deg`' labelled frames;
+/// absent where none is labelled).
+nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
+                                  const torch::Tensor& occlusion_counts,
+                                  const torch::Tensor& escape_errors_deg);
 
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
