@@ -8,13 +8,16 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
+#include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
+#include "occlusion_env/learning/check_montage.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 #include "occlusion_env/learning/training.hpp"
@@ -33,6 +36,8 @@ struct Arguments {
   std::string run_dir;
   int max_scenes = 0;  // 0: all
   std::string check_model;
+  std::string montage_path;  // with --check: the contact sheet's PNG; "": none
+  int montage_frames = 6;
   std::string bench_model;
 };
 
@@ -58,6 +63,13 @@ const OptionTable<Arguments>& argumentTable() {
                           "validation ones (e.g. a dataset of seeds 950000 on, --validation 0), "
                           "and the escape error by the oracle's steps from each frame to a clear "
                           "view"))
+          .add("montage", &Arguments::montage_path,
+               OptionSpec("with --check: also a PNG contact sheet here: a row per world and depth "
+                          "sensor, --montage-frames frames of each (spread over its frames) as the "
+                          "network sees them, the label green, the estimate red, both yellow, the "
+                          "depth beside (learning/check_montage.hpp)"))
+          .add("montage_frames", &Arguments::montage_frames,
+               OptionSpec("with --montage: frames per row").range(1, 32))
           .add("bench_inference", &Arguments::bench_model,
                OptionSpec("instead: time one learned step's inference with this model (input from "
                           "a 256 x 256 observation, batch 1, one thread) and exit"));
@@ -68,6 +80,9 @@ const OptionTable<Arguments>& argumentTable() {
 void checkArguments(const Arguments& args) {
   if (!args.check_model.empty() && args.data_dirs.empty()) {
     throw CLI::ValidationError("--check needs --data");
+  }
+  if (!args.montage_path.empty() && args.check_model.empty()) {
+    throw CLI::ValidationError("--montage needs --check");
   }
   if (args.bench_model.empty() && args.check_model.empty() &&
       (args.data_dirs.empty() || args.run_dir.empty())) {
@@ -140,7 +155,8 @@ void printConditions(const nlohmann::json& rows) {
 // Validation's figures of a model on every frame of datasets it was neither trained nor chosen
 // on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
-               int threads, double mask_coverage, const std::string& out_path) {
+               int threads, double mask_coverage, const std::string& out_path,
+               const std::string& montage_path, int montage_frames) {
   using namespace occlusion_env;
   learning::setLibtorchThreads(threads);
   learning::LoadedModel model = learning::loadModel(model_path);
@@ -189,6 +205,13 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
             << " (" << out << ")\n";
   printEscapeErrors(result["escape_by_oracle_steps"]);
   if (result.contains("by_condition")) printConditions(result["by_condition"]);
+  if (!montage_path.empty()) {
+    const cv::Mat sheet = learning::checkMontage(model.network, frames, conditions, montage_frames);
+    if (!cv::imwrite(montage_path, sheet)) {
+      throw InvalidArgumentError("cannot write the montage " + quoted(montage_path));
+    }
+    std::cout << "montage: " << montage_path << '\n';
+  }
   return 0;
 }
 
@@ -273,7 +296,8 @@ int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
   if (!args.check_model.empty()) {
     return checkModel(args.check_model, args.data_dirs, args.options.threads,
-                      args.options.mask_coverage, args.run_dir);
+                      args.options.mask_coverage, args.run_dir, args.montage_path,
+                      args.montage_frames);
   }
   return train(args);
 }
@@ -292,7 +316,8 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, argumentTable(), args, {"data", "out"});
   tools::addOptionFlags(app, learning::networkConfigTable(), args.options.network);
   tools::addOptionFlags(app, learning::trainingOptionTable(), args.options);
-  tools::addOptionFlags(app, argumentTable(), args, {"max_scenes", "check", "bench_inference"});
+  tools::addOptionFlags(app, argumentTable(), args,
+                        {"max_scenes", "check", "montage", "montage_frames", "bench_inference"});
   app.callback([&args] { checkArguments(args); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }
