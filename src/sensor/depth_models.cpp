@@ -182,8 +182,14 @@ class RealSenseD435Model : public DepthSensorModel {
                const DepthGeometry& geometry, const CounterNoise& noise,
                cv::Mat& measured) override {
     measured.create(ideal.size(), CV_32FC1);
-    const int band_radius = std::max(
-        1, static_cast<int>(std::lround(p_.edge_band_px * intrinsics.fx / p_.focal_length_px)));
+    // The band (edge_band_px sensor px either side of a discontinuity) in rendered px: the edge
+    // pixels and band_radius more, the dropout scaled by the share of their width the band
+    // covers, so that a render of any size loses at its edges the share of its pixels the
+    // sensor's own image loses there (rounded up to whole pixels at the full probability, a
+    // 128 px render lost 2.6 times the share a 512 px one did).
+    const double band_px = p_.edge_band_px * intrinsics.fx / p_.focal_length_px;
+    const int band_radius = std::max(0, static_cast<int>(std::ceil(band_px)) - 1);
+    edge_share_ = static_cast<float>(std::min(1.0, band_px / (1 + band_radius)));
     dilateSquare(geometry.edge, band_radius, scratch_, edge_band_);
     // The right imager's view: occluded there or outside its image (the left band) = no match.
     markHiddenFromSecondView(ideal, intrinsics.fx, p_.baseline_m, true, columns_, hidden_);
@@ -232,7 +238,8 @@ class RealSenseD435Model : public DepthSensorModel {
     const float min_range = static_cast<float>(p_.min_range_m);
     const float max_range = static_cast<float>(p_.max_range_m);
     const float hole = static_cast<float>(p_.hole_rate);
-    const float edge = std::max(hole, static_cast<float>(p_.edge_dropout_probability));
+    const float edge =
+        std::max(hole, static_cast<float>(p_.edge_dropout_probability) * edge_share_);
     const float grazing = static_cast<float>(p_.grazing_dropout_probability);
     const float f_b = static_cast<float>(p_.focal_length_px * p_.baseline_m);
     const float sigma = static_cast<float>(p_.disparity_sigma_px);
@@ -256,6 +263,7 @@ class RealSenseD435Model : public DepthSensorModel {
   RealSenseD435Parameters p_;
   Quantiser quantised_;
   float cos_grazing_;
+  float edge_share_ = 1.0f;  // of the edge dropout, this frame's (measure())
   std::vector<float> columns_;
   std::vector<float> normal_;  // per pixel of a row: the disparity draw
   std::vector<float> draw_;    // the dropout draw (-1 where a dark surface drops it)
@@ -278,9 +286,12 @@ class AzureKinectModel : public DepthSensorModel {
     const int radius = std::max(
         1,
         static_cast<int>(std::lround(p_.multipath_radius_px * intrinsics.fx / p_.focal_length_px)));
-    const float flying = static_cast<float>(p_.flying_pixel_probability);
-    const float invalid =
-        static_cast<float>(p_.flying_pixel_probability + p_.edge_invalid_probability);
+    // A discontinuity spoils the sensor pixels that straddle it: of a rendered pixel coarser
+    // than the sensor's, the share of its width one sensor pixel is.
+    const double edge_share = std::min(1.0, intrinsics.fx / p_.focal_length_px);
+    const float flying = static_cast<float>(p_.flying_pixel_probability * edge_share);
+    const float invalid = static_cast<float>(
+        (p_.flying_pixel_probability + p_.edge_invalid_probability) * edge_share);
     for (int v = 0; v < ideal.rows; ++v) {
       const float* z = ideal.ptr<float>(v);
       const std::uint8_t* edge = geometry.edge.ptr<std::uint8_t>(v);
