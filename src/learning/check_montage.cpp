@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "occlusion_env/common/errors.hpp"
@@ -40,12 +39,8 @@ std::vector<std::pair<std::string, std::vector<int64_t>>> montageFrames(
     const std::vector<std::string>& conditions, int per_condition) {
   if (per_condition < 1)
     throw InvalidArgumentError("montageFrames: per_condition must be at least 1");
-  std::map<std::string, std::vector<int64_t>> by_condition;
-  for (size_t i = 0; i < conditions.size(); ++i) {
-    by_condition[conditions[i]].push_back(static_cast<int64_t>(i));
-  }
   std::vector<std::pair<std::string, std::vector<int64_t>>> picks;
-  for (const auto& [condition, indices] : by_condition) {
+  for (const auto& [condition, indices] : framesByCondition(conditions)) {
     const size_t count = std::min<size_t>(per_condition, indices.size());
     std::vector<int64_t> chosen;
     for (size_t k = 0; k < count; ++k) chosen.push_back(indices[k * indices.size() / count]);

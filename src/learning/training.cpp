@@ -621,15 +621,20 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   return m;
 }
 
+std::map<std::string, std::vector<int64_t>> framesByCondition(
+    const std::vector<std::string>& conditions) {
+  std::map<std::string, std::vector<int64_t>> frames_of;
+  for (std::size_t i = 0; i < conditions.size(); ++i) {
+    frames_of[conditions[i]].push_back(static_cast<int64_t>(i));
+  }
+  return frames_of;
+}
+
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
                                   const torch::Tensor& escape_errors_deg) {
-  std::map<std::string, std::vector<int64_t>> rows_of;
-  for (std::size_t i = 0; i < conditions.size(); ++i) {
-    rows_of[conditions[i]].push_back(static_cast<int64_t>(i));
-  }
   nlohmann::json rows = nlohmann::json::array();
-  for (const auto& [condition, frames] : rows_of) {
+  for (const auto& [condition, frames] : framesByCondition(conditions)) {
     const torch::Tensor index = torch::tensor(frames, torch::kLong);
     const torch::Tensor counts = occlusion_counts.index_select(0, index).sum(0);
     const double union_px = counts[1].item<double>();

@@ -189,7 +189,8 @@ class RealSenseD435Model : public DepthSensorModel {
     // 128 px render lost 2.6 times the share a 512 px one did).
     const double band_px = p_.edge_band_px * intrinsics.fx / p_.focal_length_px;
     const int band_radius = std::max(0, static_cast<int>(std::ceil(band_px)) - 1);
-    edge_share_ = static_cast<float>(std::min(1.0, band_px / (1 + band_radius)));
+    const float edge_dropout = static_cast<float>(p_.edge_dropout_probability *
+                                                  std::min(1.0, band_px / (1 + band_radius)));
     dilateSquare(geometry.edge, band_radius, scratch_, edge_band_);
     // The right imager's view: occluded there or outside its image (the left band) = no match.
     markHiddenFromSecondView(ideal, intrinsics.fx, p_.baseline_m, true, columns_, hidden_);
@@ -199,16 +200,16 @@ class RealSenseD435Model : public DepthSensorModel {
       measureRow(ideal.ptr<float>(v), edge_band_.ptr<std::uint8_t>(v), hidden_.ptr<std::uint8_t>(v),
                  geometry.cos_incidence.ptr<float>(v),
                  read_rgb ? rgb.ptr<std::uint8_t>(v) : nullptr, noise, first, ideal.cols,
-                 measured.ptr<float>(v));
+                 edge_dropout, measured.ptr<float>(v));
     }
   }
 
  private:
   // Two passes over a row: the random draws (scalar: 64-bit hashes), then the model, branch-free
-  // so that it vectorises.
+  // so that it vectorises. `edge_dropout`: the probability in the edge band, this frame's.
   void measureRow(const float* z, const std::uint8_t* band, const std::uint8_t* hidden,
                   const float* cos_incidence, const std::uint8_t* colour, const CounterNoise& noise,
-                  std::uint64_t first, int width, float* out) {
+                  std::uint64_t first, int width, float edge_dropout, float* out) {
     normal_.resize(width);
     draw_.resize(width);
     // Rec. 709 luminance x 10000 against the threshold, in integers; a dark pixel's dropout draw
@@ -238,8 +239,7 @@ class RealSenseD435Model : public DepthSensorModel {
     const float min_range = static_cast<float>(p_.min_range_m);
     const float max_range = static_cast<float>(p_.max_range_m);
     const float hole = static_cast<float>(p_.hole_rate);
-    const float edge =
-        std::max(hole, static_cast<float>(p_.edge_dropout_probability) * edge_share_);
+    const float edge = std::max(hole, edge_dropout);
     const float grazing = static_cast<float>(p_.grazing_dropout_probability);
     const float f_b = static_cast<float>(p_.focal_length_px * p_.baseline_m);
     const float sigma = static_cast<float>(p_.disparity_sigma_px);
@@ -263,7 +263,6 @@ class RealSenseD435Model : public DepthSensorModel {
   RealSenseD435Parameters p_;
   Quantiser quantised_;
   float cos_grazing_;
-  float edge_share_ = 1.0f;  // of the edge dropout, this frame's (measure())
   std::vector<float> columns_;
   std::vector<float> normal_;  // per pixel of a row: the disparity draw
   std::vector<float> draw_;    // the dropout draw (-1 where a dark surface drops it)

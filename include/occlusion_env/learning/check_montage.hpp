@@ -18,7 +18,7 @@
 namespace occlusion_env {
 namespace learning {
 
-/// Per condition (in name order, as figuresByCondition's rows), up to `per_condition` frame
+/// Per condition (framesByCondition's, in name order), up to `per_condition` frame
 /// indices spread evenly over that condition's frames in their order: first, ..., the same
 /// picks on every run. `conditions` has one entry per frame (loadCheckFrames').
 std::vector<std::pair<std::string, std::vector<int64_t>>> montageFrames(

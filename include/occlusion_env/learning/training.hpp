@@ -8,6 +8,7 @@
 #include <torch/torch.h>
 
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -198,6 +199,11 @@ torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tenso
 nlohmann::json escapeErrorsByOracleSteps(const torch::Tensor& errors_deg,
                                          const torch::Tensor& oracle_steps,
                                          const torch::Tensor& shortest = {});
+
+/// The frames of each condition (`conditions`, one per frame, as loadCheckFrames gives them):
+/// their indices in frame order, the conditions in name order.
+std::map<std::string, std::vector<int64_t>> framesByCondition(
+    const std::vector<std::string>& conditions);
 
 /// evaluate()'s per-frame figures by what the frames were seen under (`conditions`, one per
 /// frame, as loadCheckFrames gives them): a row per condition, in name order, with frames,
