@@ -222,15 +222,17 @@ BoundingSurfaceOptions clearedInputSurfaceOptions() {
 }
 
 void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
-                              BoundingSurfaceFinder& finder, InputScratch& scratch) {
+                              BoundingSurfaceFinder& finder, InputScratch& scratch,
+                              double depth_scale) {
   const int size = scratch.depth_small.rows;
+  const float scale = static_cast<float>(depth_scale);
   scratch.grid_depth.create(size, size, CV_32FC1);
   for (int row = 0; row < size; ++row) {
     const float* sum = scratch.depth_small.ptr<float>(row);
     const float* fraction = scratch.valid_small.ptr<float>(row);
     float* out = scratch.grid_depth.ptr<float>(row);
     for (int col = 0; col < size; ++col) {
-      out[col] = fraction[col] >= 0.5f ? sum[col] / fraction[col]
+      out[col] = fraction[col] >= 0.5f ? scale * sum[col] / fraction[col]
                                        : std::numeric_limits<float>::quiet_NaN();
     }
   }
@@ -283,7 +285,9 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   if (!scratch.surfaces) {
     scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
   }
-  findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch);
+  // Searched at the depth the network reads (relative to the radius if the model's is), so that
+  // the tolerances are those of the scene at 4 m whatever its scale.
+  findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch, format.depthScale());
   // The void: black, far; on a bounding surface, or where no depth was read at all.
   const float black = (0.0f - 0.5f) / 0.25f;
   const float far = normalisedDepth(kFar);

@@ -1209,27 +1209,56 @@ TEST(LearningTest, AClearedInputShowsWhereNoDepthWasReadAsTheVoid) {
   }
 }
 
-TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
-  // A camera 1 m above a floor looking level; a box's front face 3 m ahead stands on the floor,
-  // 0.5 m tall. At 3 m the finder's default tolerance (2 cm + 4 mm/m^2 z^2 = 5.6 cm) takes the
-  // box's lowest rows for floor; a cleared input's (2 cm + 1 mm/m^2 z^2 = 2.9 cm) leaves them.
-  const int size = 256, grid = 64;
-  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(size, size, M_PI / 3.0);
-  cv::Mat depth(size, size, CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
-  cv::Mat box(size, size, CV_8UC1, cv::Scalar(0));
+// A camera 1 m above a floor looking level (60 deg, size x size px); a box's front face 3 m
+// ahead stands on the floor, 0.5 m tall. `box` is 255 on the face's pixels.
+struct FloorAndBox {
+  CameraIntrinsics intrinsics;
+  cv::Mat depth, box;
+};
+
+FloorAndBox floorAndBox(int size) {
+  FloorAndBox scene{
+      CameraIntrinsics::fromFieldOfView(size, size, M_PI / 3.0),
+      cv::Mat(size, size, CV_32FC1, cv::Scalar(std::numeric_limits<float>::quiet_NaN())),
+      cv::Mat(size, size, CV_8UC1, cv::Scalar(0))};
+  const CameraIntrinsics& intrinsics = scene.intrinsics;
   for (int v = 0; v < size; ++v) {
     const double y = (v - intrinsics.cy) / intrinsics.fy;  // ray's drop per metre ahead
     for (int u = 0; u < size; ++u) {
       const double x = (u - intrinsics.cx) / intrinsics.fx;
       const bool face = std::abs(x * 3.0) < 0.6 && y * 3.0 >= 0.5 && y * 3.0 < 1.0;
       if (face) {
-        depth.at<float>(v, u) = 3.0f;
-        box.at<std::uint8_t>(v, u) = 255;
+        scene.depth.at<float>(v, u) = 3.0f;
+        scene.box.at<std::uint8_t>(v, u) = 255;
       } else if (y > 0.0) {
-        depth.at<float>(v, u) = static_cast<float>(1.0 / y);  // the floor
+        scene.depth.at<float>(v, u) = static_cast<float>(1.0 / y);  // the floor
       }
     }
   }
+  return scene;
+}
+
+// The network pixels (of `grid` x `grid`) wholly on the box that `on_surface` takes for floor.
+int boxCellsOnSurface(const cv::Mat& box, const cv::Mat& on_surface, int grid) {
+  const int block = box.rows / grid;
+  int cells = 0;
+  for (int row = 0; row < grid; ++row) {
+    for (int col = 0; col < grid; ++col) {
+      const cv::Rect cell(col * block, row * block, block, block);
+      cells += cv::countNonZero(box(cell)) == block * block &&
+               on_surface.at<std::uint8_t>(row, col) != 0;
+    }
+  }
+  return cells;
+}
+
+TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
+  // At 3 m the finder's default tolerance (2 cm + 4 mm/m^2 z^2 = 5.6 cm) takes the box's lowest
+  // rows for floor; a cleared input's (2 cm + 1 mm/m^2 z^2 = 2.9 cm) leaves them.
+  const int size = 256, grid = 64;
+  const FloorAndBox scene = floorAndBox(size);
+  const CameraIntrinsics& intrinsics = scene.intrinsics;
+  const cv::Mat &depth = scene.depth, &box = scene.box;
   const cv::Mat rgb(size, size, CV_8UC3, cv::Scalar(120, 120, 120));
   std::vector<float> cleared(4 * grid * grid);
   InputScratch scratch;
@@ -1256,6 +1285,40 @@ TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
   EXPECT_GT(floor_cells, 500) << "the floor is found";
   EXPECT_GT(default_box_cells, 0) << "the finder's default takes the box's feet for floor";
   EXPECT_EQ(cleared_box_cells, 0) << "the cleared input keeps them";
+}
+
+TEST(LearningTest, AClearedInputReadRelativeToTheRadiusSearchesTheSceneAsAtFourMetres) {
+  // The scene above scaled to a sphere of 1 m (every depth a quarter) and read by a model with
+  // depth_reference: radius enters as the same scene at 4 m, floors and walls included: the plane
+  // search's tolerances are those of 4 m (2.9 cm at the box), not 2 cm of a scene a quarter the
+  // size (8 cm of the box at 4 m), which would take its feet for floor.
+  const int size = 256, grid = 64;
+  FloorAndBox scene = floorAndBox(size);
+  // The floor up to 7 m only: the input clamps depth at kFarDepthM (8 m) in metres before it
+  // scales it, so the floor beyond would be far at 4 m and not at 1 m.
+  scene.depth.setTo(std::numeric_limits<float>::quiet_NaN(), scene.depth > 7.0f);
+  const cv::Mat quarter_depth = scene.depth * 0.25;
+  const cv::Mat rgb(size, size, CV_8UC3, cv::Scalar(120, 120, 120));
+  const InputFormat per_radius(grid, DepthGaps::kFilled, true, true);
+  std::vector<float> at_four_metres(4 * grid * grid), at_one_metre(4 * grid * grid);
+  InputScratch scratch;
+  writeNetworkInput(rgb, scene.depth, scene.intrinsics, per_radius.atRadius(4.0), scratch,
+                    at_four_metres.data());
+  const cv::Mat surface_at_four_metres = scratch.on_surface.clone();
+  writeNetworkInput(rgb, quarter_depth, scene.intrinsics, per_radius.atRadius(1.0), scratch,
+                    at_one_metre.data());
+  EXPECT_GT(cv::countNonZero(surface_at_four_metres), 500) << "the floor is found";
+  EXPECT_EQ(cv::countNonZero(scratch.on_surface != surface_at_four_metres), 0);
+  EXPECT_EQ(boxCellsOnSurface(scene.box, scratch.on_surface, grid), 0);
+  int differing = 0;
+  for (std::size_t i = 0; i < at_one_metre.size(); ++i) {
+    differing += std::abs(at_one_metre[i] - at_four_metres[i]) > 1e-6f;
+  }
+  EXPECT_EQ(differing, 0) << "the same input";
+  // Searched in metres, the quarter-size scene loses the box's feet.
+  BoundingSurfaceFinder in_metres(clearedInputSurfaceOptions());
+  findGridBoundingSurfaces(scene.intrinsics, rgb.size(), in_metres, scratch);
+  EXPECT_GT(boxCellsOnSurface(scene.box, scratch.on_surface, grid), 0);
 }
 
 // A fresh 32 px network whose occlusion logits are all `logit` (the head's weights zeroed);

@@ -16,7 +16,8 @@
 //   kept:    the view as it is;
 //   cleared: the network pixels on the view's bounding surfaces (large planes with nothing seen
 //            behind them: occlusion/bounding_surfaces.hpp, found in the network pixels' mean
-//            depth with clearedInputSurfaceOptions()) enter as the void, black and far, so that
+//            depth as the network reads it, relative to the radius where the model's depth is,
+//            with clearedInputSurfaceOptions()) enter as the void, black and far, so that
 //            a network trained on objects in the void sees a room as the void around its
 //            objects; so do the network pixels with no depth reading at all (a wall beyond the
 //            sensor's range), as the void's background has none. Needs the camera's intrinsics.
@@ -105,7 +106,7 @@ CameraIntrinsics croppedIntrinsics(const CameraIntrinsics& intrinsics, const cv:
 struct InputScratch {
   cv::Mat rgb_padded, depth_padded;  // a view's part where it reaches beyond the image
   cv::Mat depth_filled, valid, rgb_small, depth_small, valid_small;
-  cv::Mat grid_depth, on_surface;  // size x size: mean depth [m], 255 on a bounding surface
+  cv::Mat grid_depth, on_surface;  // size x size: mean depth [m] (scaled), 255 on a surface
   std::unique_ptr<BoundingSurfaceFinder> surfaces;  // made on first use
 };
 
@@ -124,10 +125,13 @@ BoundingSurfaceOptions clearedInputSurfaceOptions();
 /// Finds the bounding surfaces (floors, walls) of the view (`image_size`, seen with
 /// `intrinsics`) whose valid depths sumValidDepth has summed into `scratch` at the network's
 /// size: each network pixel's depth is the mean of its block's readings, none (NaN) where fewer
-/// than half of it read, since a mean over a few speckles is no surface. Writes
-/// scratch.grid_depth and scratch.on_surface (255 on a surface).
+/// than half of it read, since a mean over a few speckles is no surface; times `depth_scale`
+/// (a cleared input's InputFormat::depthScale(): a scene scaled with its sphere is searched as
+/// the same scene at 4 m, with the tolerances of 4 m). Writes scratch.grid_depth (scaled) and
+/// scratch.on_surface (255 on a surface).
 void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size& image_size,
-                              BoundingSurfaceFinder& finder, InputScratch& scratch);
+                              BoundingSurfaceFinder& finder, InputScratch& scratch,
+                              double depth_scale = 1.0);
 
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
 /// `format` into `out` (4 * size * size floats, channel-major), of the view's crop
