@@ -1267,20 +1267,18 @@ TEST(LearningTest, AClearedInputKeepsTheFeetOfAnObjectOnTheFloor) {
   const cv::Mat cleared_input_surface = scratch.on_surface.clone();
   BoundingSurfaceFinder default_finder;
   findGridBoundingSurfaces(intrinsics, rgb.size(), default_finder, scratch);
-  int box_cells = 0, cleared_box_cells = 0, default_box_cells = 0, floor_cells = 0;
+  int box_cells = 0, floor_cells = 0;
   for (int row = 0; row < grid; ++row) {
     for (int col = 0; col < grid; ++col) {
-      const cv::Rect block(col * 4, row * 4, 4, 4);
-      const int box_pixels = cv::countNonZero(box(block));
-      if (box_pixels == 16) {
-        ++box_cells;
-        cleared_box_cells += cleared_input_surface.at<std::uint8_t>(row, col) != 0;
-        default_box_cells += scratch.on_surface.at<std::uint8_t>(row, col) != 0;
-      } else if (box_pixels == 0 && row > grid / 2 + 1) {
+      const int box_pixels = cv::countNonZero(box(cv::Rect(col * 4, row * 4, 4, 4)));
+      box_cells += box_pixels == 16;
+      if (box_pixels == 0 && row > grid / 2 + 1) {
         floor_cells += cleared_input_surface.at<std::uint8_t>(row, col) != 0;
       }
     }
   }
+  const int cleared_box_cells = boxCellsOnSurface(box, cleared_input_surface, grid);
+  const int default_box_cells = boxCellsOnSurface(box, scratch.on_surface, grid);
   ASSERT_GT(box_cells, 100);
   EXPECT_GT(floor_cells, 500) << "the floor is found";
   EXPECT_GT(default_box_cells, 0) << "the finder's default takes the box's feet for floor";
