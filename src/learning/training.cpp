@@ -547,7 +547,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   const int64_t n = samples.size();
   if (escape_errors_deg) *escape_errors_deg = torch::full({n}, std::nan(""));
   if (escape_shortest) *escape_shortest = torch::full({n}, std::nan(""));
-  if (occlusion_counts) *occlusion_counts = torch::zeros({n, 2});
+  if (occlusion_counts) *occlusion_counts = torch::zeros({n, 4});
   for (int64_t start = 0; start < n; start += batch_size) {
     const int64_t end = std::min<int64_t>(n, start + batch_size);
     const torch::Tensor indices = torch::arange(start, end);
@@ -564,7 +564,9 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
     union_count += frame_unions.sum().item<double>();
     if (occlusion_counts) {
       occlusion_counts->slice(0, start, end)
-          .copy_(torch::stack({frame_intersections, frame_unions.to(torch::kFloat)}, 1));
+          .copy_(torch::stack({frame_intersections, frame_unions.to(torch::kFloat),
+                               batch.masks.sum({1, 2, 3}), predicted.sum({1, 2, 3})},
+                              1));
     }
     gradient_loss += (directionLoss(out.gradient_direction, batch.gradient, direction_loss) *
                       batch.gradient_valid)
@@ -637,10 +639,18 @@ nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
   for (const auto& [condition, frames] : framesByCondition(conditions)) {
     const torch::Tensor index = torch::tensor(frames, torch::kLong);
     const torch::Tensor counts = occlusion_counts.index_select(0, index).sum(0);
+    const double intersection_px = counts[0].item<double>();
     const double union_px = counts[1].item<double>();
+    const double labelled_px = counts[2].item<double>();
+    const double predicted_px = counts[3].item<double>();
+    // Precision and recall say whether a condition loses its IoU to false alarms or to misses.
     nlohmann::json row = {{"condition", condition},
                           {"frames", static_cast<int64_t>(frames.size())},
-                          {"val_iou", union_px > 0.0 ? counts[0].item<double>() / union_px : 1.0}};
+                          {"val_iou", union_px > 0.0 ? intersection_px / union_px : 1.0},
+                          {"labelled_px", labelled_px},
+                          {"predicted_px", predicted_px},
+                          {"precision", predicted_px > 0.0 ? intersection_px / predicted_px : 1.0},
+                          {"recall", labelled_px > 0.0 ? intersection_px / labelled_px : 1.0}};
     const torch::Tensor errors = escape_errors_deg.index_select(0, index);
     const torch::Tensor labelled = errors.masked_select(errors.isnan().logical_not());
     if (labelled.numel() > 0) row["mean_escape_deg"] = labelled.mean().item<double>();

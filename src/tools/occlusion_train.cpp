@@ -139,12 +139,13 @@ void printEscapeErrors(const nlohmann::json& rows) {
 // The check's figures by the world and depth sensor the frames were seen under.
 void printConditions(const nlohmann::json& rows) {
   std::cout << "by world and depth sensor:\n"
-            << "  world, depth sensor           frames     IoU   escape\n";
+            << "  world, depth sensor           frames     IoU  precision  recall   escape\n";
   for (const nlohmann::json& row : rows) {
     std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
               << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
               << std::setprecision(1) << std::setw(7) << 100.0 * row["val_iou"].get<double>()
-              << " %";
+              << " %" << std::setw(9) << 100.0 * row["precision"].get<double>() << " %"
+              << std::setw(6) << 100.0 * row["recall"].get<double>() << " %";
     if (row.contains("mean_escape_deg")) {
       std::cout << std::setw(7) << row["mean_escape_deg"].get<double>() << " deg";
     }

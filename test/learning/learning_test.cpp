@@ -666,6 +666,15 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
     *field = field->slice(0, 2, 5);
   }
   EXPECT_NEAR(rows[0]["val_iou"].get<double>(), evaluate(network, room, 2, "mse").val_iou, 1e-6);
+  // Its label's pixels are its frames' masks; the map's pixels, precision and recall agree
+  // with the IoU: intersection / (labelled + predicted - intersection).
+  const double labelled = rows[0]["labelled_px"].get<double>();
+  const double predicted = rows[0]["predicted_px"].get<double>();
+  EXPECT_NEAR(labelled, room.masks.sum().item<double>(), 1e-6);
+  const double intersection = rows[0]["recall"].get<double>() * labelled;
+  EXPECT_NEAR(rows[0]["precision"].get<double>() * predicted, intersection, 1e-6);
+  EXPECT_NEAR(rows[0]["val_iou"].get<double>(),
+              intersection / (labelled + predicted - intersection), 1e-6);
   EXPECT_FALSE(rows[0].contains("mean_escape_deg")) << "no oracle labels, no escape error";
   for (const fs::path& dir : {void_dir, room_dir}) fs::remove_all(dir);
 }

@@ -167,9 +167,9 @@ struct EpochMetrics {
 /// the predicted-escape agent moves by (the escape-bins head's choice when there is one, else the
 /// escape head): with `escape_errors_deg`, its angular error [deg], NaN where a frame has no
 /// escape label; with `escape_shortest`, whether its move is one of the frame's shortest first
-/// moves (1 / 0), NaN where it records none; with `occlusion_counts`, [N, 2] its occlusion
-/// map's intersection and union with the label [px at the network's size] (their sums over the
-/// frames give the IoU).
+/// moves (1 / 0), NaN where it records none; with `occlusion_counts`, [N, 4] its occlusion
+/// map's intersection and union with the label, the label's pixels and the map's [px at the
+/// network's size] (sums over the frames of the first two give the IoU).
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg = nullptr,
                       torch::Tensor* escape_shortest = nullptr,
@@ -207,8 +207,9 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
 
 /// evaluate()'s per-frame figures by what the frames were seen under (`conditions`, one per
 /// frame, as loadCheckFrames gives them): a row per condition, in name order, with frames,
-/// val_iou (from `occlusion_counts`) and mean_escape_deg (of `escape_errors_deg`' labelled frames;
-/// absent where none is labelled).
+/// val_iou, labelled_px, predicted_px, precision and recall (from `occlusion_counts`; precision
+/// and recall 1 where nothing is predicted or labelled) and mean_escape_deg (of
+/// `escape_errors_deg`' labelled frames; absent where none is labelled).
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
                                   const torch::Tensor& escape_errors_deg);
