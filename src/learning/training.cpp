@@ -1,5 +1,6 @@
 #include "occlusion_env/learning/training.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -343,7 +344,8 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 
 Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
                         const nlohmann::json& model_manifest, double mask_coverage,
-                        std::vector<std::string>* conditions) {
+                        std::vector<std::string>* conditions,
+                        std::vector<std::uint64_t>* scene_seeds) {
   if (dirs.empty()) throw InvalidArgumentError("no dataset given");
   if (!(mask_coverage > 0.0 && mask_coverage <= 1.0)) {
     throw InvalidArgumentError("mask_coverage must be a fraction in (0, 1]");
@@ -381,6 +383,7 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
         const auto& setup = frame.labels.setup;
         conditions->push_back(setup ? setup->world + ", " + setup->depth_sensor : "not recorded");
       }
+      if (scene_seeds) scene_seeds->push_back(frame.scene_seed);
     }
     fillSamples(*data, frames, format, samples, row, mask_coverage);
     row += static_cast<int64_t>(frames.size());
@@ -632,9 +635,56 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
   return frames_of;
 }
 
+IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
+                              const std::vector<std::uint64_t>& scene_seeds,
+                              const std::vector<int64_t>& frames, int draws, std::uint64_t seed) {
+  if (draws < 1) throw InvalidArgumentError("sceneBootstrapIou: draws must be >= 1");
+  if (static_cast<int64_t>(scene_seeds.size()) != occlusion_counts.size(0)) {
+    throw InvalidArgumentError("sceneBootstrapIou: one scene seed per frame is needed");
+  }
+  // Each scene's summed intersection and union, in order of first appearance.
+  const torch::Tensor counts = occlusion_counts.to(torch::kDouble).contiguous();
+  const auto rows = counts.accessor<double, 2>();
+  std::map<std::uint64_t, std::size_t> scene_of_seed;
+  std::vector<double> intersection, union_px;
+  for (const int64_t frame : frames) {
+    const auto [it, added] = scene_of_seed.emplace(scene_seeds.at(frame), intersection.size());
+    if (added) {
+      intersection.push_back(0.0);
+      union_px.push_back(0.0);
+    }
+    intersection[it->second] += rows[frame][0];
+    union_px[it->second] += rows[frame][1];
+  }
+  IouInterval interval;
+  interval.scenes = static_cast<int>(intersection.size());
+  if (intersection.empty()) return interval;
+  std::mt19937_64 generator(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, intersection.size() - 1);
+  std::vector<double> ious(static_cast<std::size_t>(draws));
+  for (double& iou : ious) {
+    double drawn_intersection = 0.0, drawn_union = 0.0;
+    for (std::size_t i = 0; i < intersection.size(); ++i) {
+      const std::size_t scene = pick(generator);
+      drawn_intersection += intersection[scene];
+      drawn_union += union_px[scene];
+    }
+    iou = drawn_union > 0.0 ? drawn_intersection / drawn_union : 1.0;  // as evaluate()'s
+  }
+  std::sort(ious.begin(), ious.end());
+  const auto percentile = [&](double q) {
+    const auto at = static_cast<std::size_t>(std::floor(q * static_cast<double>(draws - 1) + 0.5));
+    return ious[at];
+  };
+  interval.low = percentile(0.025);
+  interval.high = percentile(0.975);
+  return interval;
+}
+
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
-                                  const torch::Tensor& escape_errors_deg) {
+                                  const torch::Tensor& escape_errors_deg,
+                                  const std::vector<std::uint64_t>& scene_seeds) {
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& [condition, frames] : framesByCondition(conditions)) {
     const torch::Tensor index = torch::tensor(frames, torch::kLong);
@@ -651,6 +701,11 @@ nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                           {"predicted_px", predicted_px},
                           {"precision", predicted_px > 0.0 ? intersection_px / predicted_px : 1.0},
                           {"recall", labelled_px > 0.0 ? intersection_px / labelled_px : 1.0}};
+    if (!scene_seeds.empty()) {
+      const IouInterval interval = sceneBootstrapIou(occlusion_counts, scene_seeds, frames);
+      row["scenes"] = interval.scenes;
+      row["val_iou_95"] = {interval.low, interval.high};
+    }
     const torch::Tensor errors = escape_errors_deg.index_select(0, index);
     const torch::Tensor labelled = errors.masked_select(errors.isnan().logical_not());
     if (labelled.numel() > 0) row["mean_escape_deg"] = labelled.mean().item<double>();

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
@@ -139,13 +140,17 @@ void printEscapeErrors(const nlohmann::json& rows) {
 // The check's figures by the world and depth sensor the frames were seen under.
 void printConditions(const nlohmann::json& rows) {
   std::cout << "by world and depth sensor:\n"
-            << "  world, depth sensor           frames     IoU  precision  recall   escape\n";
+            << "  world, depth sensor           frames  scenes     IoU   95 % over scenes  "
+               "precision  recall   escape\n";
   for (const nlohmann::json& row : rows) {
     std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
-              << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::fixed
-              << std::setprecision(1) << std::setw(7) << 100.0 * row["val_iou"].get<double>()
-              << " %" << std::setw(9) << 100.0 * row["precision"].get<double>() << " %"
-              << std::setw(6) << 100.0 * row["recall"].get<double>() << " %";
+              << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::setw(8)
+              << row["scenes"].get<int>() << std::fixed << std::setprecision(1) << std::setw(7)
+              << 100.0 * row["val_iou"].get<double>() << " %" << std::setw(10)
+              << 100.0 * row["val_iou_95"][0].get<double>() << "-" << std::left << std::setw(6)
+              << 100.0 * row["val_iou_95"][1].get<double>() << std::right << " %" << std::setw(9)
+              << 100.0 * row["precision"].get<double>() << " %" << std::setw(6)
+              << 100.0 * row["recall"].get<double>() << " %";
     if (row.contains("mean_escape_deg")) {
       std::cout << std::setw(7) << row["mean_escape_deg"].get<double>() << " deg";
     }
@@ -164,8 +169,10 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   const int size = model.network->config().input_size;
   std::cerr << "occlusion_train: reading " << data_dirs.front() << " at " << size << " px...\n";
   std::vector<std::string> conditions;
-  const learning::Samples frames = learning::loadCheckFrames(
-      data_dirs, model.network->config().inputFormat(), model.manifest, mask_coverage, &conditions);
+  std::vector<std::uint64_t> scene_seeds;
+  const learning::Samples frames =
+      learning::loadCheckFrames(data_dirs, model.network->config().inputFormat(), model.manifest,
+                                mask_coverage, &conditions, &scene_seeds);
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
   torch::Tensor escape_errors_deg, escape_shortest, occlusion_counts;
@@ -181,30 +188,46 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
        {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
     result["figures"].erase(unused);
   }
+  // How far the IoU would move on other scenes: a check set of few scenes is a noisy figure.
+  std::vector<int64_t> every_frame(static_cast<std::size_t>(frames.size()));
+  std::iota(every_frame.begin(), every_frame.end(), int64_t{0});
+  const learning::IouInterval interval =
+      learning::sceneBootstrapIou(occlusion_counts, scene_seeds, every_frame);
+  result["scenes"] = interval.scenes;
+  result["figures"]["val_iou_95"] = {interval.low, interval.high};
   result["escape_by_oracle_steps"] =
       learning::escapeErrorsByOracleSteps(escape_errors_deg, frames.oracle_steps, escape_shortest);
   // Frames of several worlds or depth sensors (a randomised set): the figures of each.
   const nlohmann::json by_condition =
-      learning::figuresByCondition(conditions, occlusion_counts, escape_errors_deg);
+      learning::figuresByCondition(conditions, occlusion_counts, escape_errors_deg, scene_seeds);
   if (by_condition.size() > 1) result["by_condition"] = by_condition;
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
+  const bool escape_labelled = frames.escape_valid.sum().item<double>() > 0.0;
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames"
             << (mask_coverage != learning::kPaperMaskCoverage
                     ? " (labels at coverage " + std::to_string(mask_coverage).substr(0, 5) + ")"
                     : std::string())
-            << ": IoU " << 100.0 * m.val_iou << " %, pixel acc " << 100.0 * m.val_pixel_accuracy
-            << " %, dice loss " << std::setprecision(4) << m.val_dice_loss << ", gradient "
-            << std::setprecision(1) << m.val_gradient_angle_deg << " deg, escape "
-            << m.val_escape_angle_deg << " deg"
-            << (m.val_escape_bins_angle_deg > 0.0
-                    ? " (bins " + std::to_string(m.val_escape_bins_angle_deg).substr(0, 5) + " deg)"
-                    : std::string())
-            << " (" << out << ")\n";
-  printEscapeErrors(result["escape_by_oracle_steps"]);
+            << ": IoU " << 100.0 * m.val_iou << " % (95 % over " << interval.scenes
+            << " scenes: " << 100.0 * interval.low << "-" << 100.0 * interval.high
+            << " %), pixel acc " << 100.0 * m.val_pixel_accuracy << " %, dice loss "
+            << std::setprecision(4) << m.val_dice_loss << ", gradient " << std::setprecision(1)
+            << m.val_gradient_angle_deg << " deg, ";
+  // Frames made without the oracle have no escape label: no error, rather than 0 deg.
+  if (escape_labelled) {
+    std::cout << "escape " << m.val_escape_angle_deg << " deg"
+              << (m.val_escape_bins_angle_deg > 0.0
+                      ? " (bins " + std::to_string(m.val_escape_bins_angle_deg).substr(0, 5) +
+                            " deg)"
+                      : std::string());
+  } else {
+    std::cout << "no escape labels (made with --no-oracle)";
+  }
+  std::cout << " (" << out << ")\n";
+  if (escape_labelled) printEscapeErrors(result["escape_by_oracle_steps"]);
   if (result.contains("by_condition")) printConditions(result["by_condition"]);
   if (!montage_path.empty()) {
     const cv::Mat sheet = learning::checkMontage(model.network, frames, conditions, montage_frames);

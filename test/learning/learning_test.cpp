@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
@@ -636,9 +637,11 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
 
   const std::vector<std::string> dirs = {void_dir.string(), room_dir.string()};
   std::vector<std::string> conditions;
+  std::vector<std::uint64_t> seeds;
   const Samples frames =
-      loadCheckFrames(dirs, 32, nlohmann::json::object(), kPaperMaskCoverage, &conditions);
+      loadCheckFrames(dirs, 32, nlohmann::json::object(), kPaperMaskCoverage, &conditions, &seeds);
   ASSERT_EQ(frames.size(), 5);
+  EXPECT_EQ(seeds, (std::vector<std::uint64_t>{0, 0, 10, 10, 10}));
   EXPECT_EQ(conditions,
             (std::vector<std::string>{"void, ideal", "void, ideal", "room, realsense_d435",
                                       "room, realsense_d435", "room, realsense_d435"}));
@@ -652,8 +655,11 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
   ASSERT_EQ(counts.size(0), 5);
   EXPECT_NEAR(counts.select(1, 0).sum().item<double>() / counts.select(1, 1).sum().item<double>(),
               all.val_iou, 1e-9);
-  const nlohmann::json rows = figuresByCondition(conditions, counts, errors);
+  const nlohmann::json rows = figuresByCondition(conditions, counts, errors, seeds);
   ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["scenes"], 1);  // the room's one scene: its interval is its IoU
+  EXPECT_NEAR(rows[0]["val_iou_95"][0].get<double>(), rows[0]["val_iou"].get<double>(), 1e-9);
+  EXPECT_NEAR(rows[0]["val_iou_95"][1].get<double>(), rows[0]["val_iou"].get<double>(), 1e-9);
   EXPECT_EQ(rows[0]["condition"], "room, realsense_d435");  // in name order
   EXPECT_EQ(rows[0]["frames"], 3);
   EXPECT_EQ(rows[1]["condition"], "void, ideal");
@@ -677,6 +683,44 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
               intersection / (labelled + predicted - intersection), 1e-6);
   EXPECT_FALSE(rows[0].contains("mean_escape_deg")) << "no oracle labels, no escape error";
   for (const fs::path& dir : {void_dir, room_dir}) fs::remove_all(dir);
+}
+
+// The IoU's interval draws scenes, not frames: frames of one scene move together.
+TEST(LearningTest, TheIousIntervalDrawsWholeScenes) {
+  // Four scenes of two frames each: in every scene one frame is all hit (10 / 10) and one all
+  // missed (0 / 10), so every scene's own IoU is 0.5 and no draw of whole scenes moves it; a
+  // draw of frames would.
+  const torch::Tensor halves = torch::tensor({10.0, 10.0, 10.0, 10.0, 0.0, 10.0, 10.0, 0.0})
+                                   .view({2, 4})
+                                   .repeat({4, 1});  // [8, 4]: I, U, labelled, predicted
+  const std::vector<std::uint64_t> seeds = {7, 7, 3, 3, 9, 9, 5, 5};
+  std::vector<int64_t> all(8);
+  std::iota(all.begin(), all.end(), int64_t{0});
+  IouInterval interval = sceneBootstrapIou(halves, seeds, all);
+  EXPECT_EQ(interval.scenes, 4);
+  EXPECT_DOUBLE_EQ(interval.low, 0.5);
+  EXPECT_DOUBLE_EQ(interval.high, 0.5);
+
+  // Scenes that differ: an interval around the pooled IoU, the same for the same seed.
+  const torch::Tensor counts =
+      torch::tensor({{2.0, 10.0}, {9.0, 10.0}, {5.0, 10.0}, {1.0, 10.0}, {7.0, 10.0}});
+  const std::vector<std::uint64_t> five = {1, 2, 3, 4, 5};
+  const std::vector<int64_t> frames = {0, 1, 2, 3, 4};
+  interval = sceneBootstrapIou(counts, five, frames, 4000, 11);
+  EXPECT_EQ(interval.scenes, 5);
+  EXPECT_LT(interval.low, 0.48);
+  EXPECT_GT(interval.high, 0.48);  // the pooled 24 / 50
+  EXPECT_GE(interval.low, 0.1);    // no draw below the worst scene's or above the best's
+  EXPECT_LE(interval.high, 0.9);
+  const IouInterval again = sceneBootstrapIou(counts, five, frames, 4000, 11);
+  EXPECT_EQ(again.low, interval.low);
+  EXPECT_EQ(again.high, interval.high);
+  // Only the frames asked for: one scene alone has no spread.
+  interval = sceneBootstrapIou(counts, five, {1});
+  EXPECT_EQ(interval.scenes, 1);
+  EXPECT_DOUBLE_EQ(interval.low, 0.9);
+  EXPECT_DOUBLE_EQ(interval.high, 0.9);
+  EXPECT_THROW(sceneBootstrapIou(counts, {1, 2}, frames), InvalidArgumentError);
 }
 
 // The escape error by the oracle's steps: each labelled frame in its row and in "all", frames

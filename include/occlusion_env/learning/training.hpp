@@ -7,6 +7,7 @@
 
 #include <torch/torch.h>
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -78,10 +79,12 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
 /// `mask_coverage`. With `conditions`, what each frame was seen under, row by row: "<world>,
 /// <depth sensor>" from its labels' scene setup (e.g. "room, realsense_d435"), "not recorded"
 /// for frames whose labels name none.
+/// With `scene_seeds`, the seed of each frame's scene, row by row.
 Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat& format,
                         const nlohmann::json& model_manifest,
                         double mask_coverage = kPaperMaskCoverage,
-                        std::vector<std::string>* conditions = nullptr);
+                        std::vector<std::string>* conditions = nullptr,
+                        std::vector<std::uint64_t>* scene_seeds = nullptr);
 
 struct TrainingOptions {
   NetworkConfig network;
@@ -210,9 +213,28 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
 /// val_iou, labelled_px, predicted_px, precision and recall (from `occlusion_counts`; precision
 /// and recall 1 where nothing is predicted or labelled) and mean_escape_deg (of
 /// `escape_errors_deg`' labelled frames; absent where none is labelled).
+/// With `scene_seeds` (one per frame), each row also has its scenes and val_iou_95
+/// (sceneBootstrapIou's interval).
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
-                                  const torch::Tensor& escape_errors_deg);
+                                  const torch::Tensor& escape_errors_deg,
+                                  const std::vector<std::uint64_t>& scene_seeds = {});
+
+/// How far a pooled IoU would move on another sample of as many scenes.
+struct IouInterval {
+  double low = 0.0, high = 0.0;  // the 2.5th and 97.5th percentiles, fractions
+  int scenes = 0;                // distinct scene seeds among the frames
+};
+
+/// The 95 % interval of the pooled IoU (sum of intersections / sum of unions) of `frames` (rows
+/// of `occlusion_counts`, [N, 4] as evaluate() gives them), by a percentile bootstrap over
+/// scenes: the scenes (`scene_seeds`, one per row) drawn again with replacement `draws` times,
+/// each with all its frames, since views of one scene err alike. Deterministic for a `seed`.
+/// Frames of one seed in two datasets count as one scene: the same objects, placed alike.
+IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
+                              const std::vector<std::uint64_t>& scene_seeds,
+                              const std::vector<int64_t>& frames, int draws = 2000,
+                              std::uint64_t seed = 1);
 
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
