@@ -10,6 +10,7 @@
 #include <memory>
 #include <numeric>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -137,6 +138,14 @@ void printEscapeErrors(const nlohmann::json& rows) {
   }
 }
 
+// An IoU's interval as "low-high %", one decimal.
+std::string intervalText(const nlohmann::json& interval) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(1) << 100.0 * interval[0].get<double>() << "-"
+       << 100.0 * interval[1].get<double>() << " %";
+  return text.str();
+}
+
 // The check's figures by the world and depth sensor the frames were seen under.
 void printConditions(const nlohmann::json& rows) {
   std::cout << "by world and depth sensor:\n"
@@ -146,9 +155,8 @@ void printConditions(const nlohmann::json& rows) {
     std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
               << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::setw(8)
               << row["scenes"].get<int>() << std::fixed << std::setprecision(1) << std::setw(7)
-              << 100.0 * row["val_iou"].get<double>() << " %" << std::setw(10)
-              << 100.0 * row["val_iou_95"][0].get<double>() << "-" << std::left << std::setw(6)
-              << 100.0 * row["val_iou_95"][1].get<double>() << std::right << " %" << std::setw(9)
+              << 100.0 * row["val_iou"].get<double>() << " %" << std::setw(16)
+              << intervalText(row["val_iou_95"]) << std::setw(11)
               << 100.0 * row["precision"].get<double>() << " %" << std::setw(6)
               << 100.0 * row["recall"].get<double>() << " %";
     if (row.contains("mean_escape_deg")) {
