@@ -681,6 +681,39 @@ IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
   return interval;
 }
 
+std::vector<double> iouByProbability(MultiTaskUNet& network, const Samples& samples, int batch_size,
+                                     const std::vector<double>& probabilities) {
+  std::vector<float> logit_thresholds;
+  for (const double p : probabilities) {
+    if (!(p > 0.0 && p < 1.0)) {
+      throw InvalidArgumentError("an occlusion probability threshold must lie in (0, 1), not " +
+                                 std::to_string(p));
+    }
+    logit_thresholds.push_back(static_cast<float>(std::log(p / (1.0 - p))));
+  }
+  torch::NoGradGuard no_grad;
+  const bool was_training = network->is_training();
+  network->eval();
+  std::vector<double> intersections(probabilities.size(), 0.0), unions(probabilities.size(), 0.0);
+  for (int64_t start = 0; start < samples.size(); start += batch_size) {
+    const int64_t end = std::min<int64_t>(samples.size(), start + batch_size);
+    const Batch batch = batchOf(samples, torch::arange(start, end));
+    const torch::Tensor logits = network->forward(batch.inputs).occlusion_logits;
+    const torch::Tensor labelled = batch.masks > 0.5;
+    for (std::size_t i = 0; i < logit_thresholds.size(); ++i) {
+      const torch::Tensor predicted = logits > logit_thresholds[i];
+      intersections[i] += (predicted & labelled).sum().item<double>();
+      unions[i] += (predicted | labelled).sum().item<double>();
+    }
+  }
+  if (was_training) network->train();
+  std::vector<double> ious;
+  for (std::size_t i = 0; i < probabilities.size(); ++i) {
+    ious.push_back(unions[i] > 0.0 ? intersections[i] / unions[i] : 1.0);
+  }
+  return ious;
+}
+
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
                                   const torch::Tensor& escape_errors_deg,

@@ -40,6 +40,8 @@ struct Arguments {
   std::string check_model;
   std::string montage_path;  // with --check: the contact sheet's PNG; "": none
   int montage_frames = 6;
+  // With --check: the IoU also at these occlusion probability thresholds (0.5: validation's).
+  std::vector<double> check_probabilities = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7};
   std::string bench_model;
 };
 
@@ -170,7 +172,8 @@ void printConditions(const nlohmann::json& rows) {
 // on, printed and written as JSON to `out_path` ("": beside the model, <model>.check.json).
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
                int threads, double mask_coverage, const std::string& out_path,
-               const std::string& montage_path, int montage_frames) {
+               const std::string& montage_path, int montage_frames,
+               const std::vector<double>& probabilities) {
   using namespace occlusion_env;
   learning::setLibtorchThreads(threads);
   learning::LoadedModel model = learning::loadModel(model_path);
@@ -209,6 +212,13 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   const nlohmann::json by_condition =
       learning::figuresByCondition(conditions, occlusion_counts, escape_errors_deg, scene_seeds);
   if (by_condition.size() > 1) result["by_condition"] = by_condition;
+  const std::vector<double> ious =
+      learning::iouByProbability(model.network, frames, 64, probabilities);
+  result["iou_by_probability"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < ious.size(); ++i) {
+    result["iou_by_probability"].push_back(
+        {{"probability", probabilities[i]}, {"val_iou", ious[i]}});
+  }
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
@@ -235,6 +245,14 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     std::cout << "no escape labels (made with --no-oracle)";
   }
   std::cout << " (" << out << ")\n";
+  if (!ious.empty()) {
+    std::cout << "IoU with the map thresholded at probability:";
+    for (std::size_t i = 0; i < ious.size(); ++i) {
+      std::cout << (i ? ", " : " ") << std::setprecision(2) << probabilities[i] << " "
+                << std::setprecision(1) << 100.0 * ious[i] << " %";
+    }
+    std::cout << '\n';
+  }
   if (escape_labelled) printEscapeErrors(result["escape_by_oracle_steps"]);
   if (result.contains("by_condition")) printConditions(result["by_condition"]);
   if (!montage_path.empty()) {
@@ -329,7 +347,7 @@ int run(const Arguments& args) {
   if (!args.check_model.empty()) {
     return checkModel(args.check_model, args.data_dirs, args.options.threads,
                       args.options.mask_coverage, args.run_dir, args.montage_path,
-                      args.montage_frames);
+                      args.montage_frames, args.check_probabilities);
   }
   return train(args);
 }

@@ -621,6 +621,30 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
   for (const fs::path& dir : {data_dir, other_dir, run_dir}) fs::remove_all(dir);
 }
 
+// The IoU by probability threshold: at 0.5 it is evaluate()'s; at a probability near 0 every
+// pixel is predicted, so it is the labelled share of the pixels; at one near 1 nothing is, so
+// it is 0; a probability outside (0, 1) is refused.
+TEST(LearningTest, TheIouByProbabilityIsEvaluatesAtOneHalf) {
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_iou_by_probability");
+  dataset::DatasetOptions options = tinyDataset(2, 3, 0.0);
+  options.oracle_labels = false;
+  dataset::generateDataset(data_dir.string(), options);
+  const Samples frames = loadCheckFrames({data_dir.string()}, 32, nlohmann::json::object());
+  ASSERT_GT(frames.masks.sum().item<double>(), 0.0) << "the tiny scenes have occlusion";
+  torch::manual_seed(5);
+  NetworkConfig config;
+  config.input_size = 32;
+  MultiTaskUNet network(config);
+  const std::vector<double> ious = iouByProbability(network, frames, 4, {1e-6, 0.5, 1.0 - 1e-6});
+  ASSERT_EQ(ious.size(), 3u);
+  EXPECT_NEAR(ious[1], evaluate(network, frames, 4, "mse").val_iou, 1e-9);
+  EXPECT_NEAR(ious[0], frames.masks.sum().item<double>() / frames.masks.numel(), 1e-9);
+  EXPECT_EQ(ious[2], 0.0);
+  EXPECT_THROW(iouByProbability(network, frames, 4, {0.0}), InvalidArgumentError);
+  EXPECT_THROW(iouByProbability(network, frames, 4, {1.0}), InvalidArgumentError);
+  fs::remove_all(data_dir);
+}
+
 // A check's frames are named by the world and depth sensor they were seen under, row by row, and
 // evaluate()'s per-frame counts give each condition's IoU (and all of them the whole IoU).
 TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {

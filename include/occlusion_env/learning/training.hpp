@@ -236,6 +236,13 @@ IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
                               const std::vector<int64_t>& frames, int draws = 2000,
                               std::uint64_t seed = 1);
 
+/// The pooled IoU (sum of intersections / sum of unions over `samples`) of the network's
+/// occlusion map thresholded at each of `probabilities` (in (0, 1); 0.5 is evaluate()'s), in
+/// their order: where between sure and eager a model's maps match the labels best.
+/// InvalidArgumentError for a probability outside (0, 1).
+std::vector<double> iouByProbability(MultiTaskUNet& network, const Samples& samples, int batch_size,
+                                     const std::vector<double>& probabilities);
+
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
   std::function<void(const EpochMetrics&)> on_epoch;
