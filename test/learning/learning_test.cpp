@@ -624,7 +624,7 @@ TEST(LearningTest, ChecksRunOnOtherScenesOnly) {
 // The IoU by probability threshold: at 0.5 it is evaluate()'s; at a probability near 0 every
 // pixel is predicted, so it is the labelled share of the pixels; at one near 1 nothing is, so
 // it is 0; a probability outside (0, 1) is refused.
-TEST(LearningTest, TheIouByProbabilityIsEvaluatesAtOneHalf) {
+TEST(LearningTest, IouByProbabilityMatchesEvaluateAtOneHalf) {
   const fs::path data_dir = temporaryDir("occlusion_env_learning_iou_by_probability");
   dataset::DatasetOptions options = tinyDataset(2, 3, 0.0);
   options.oracle_labels = false;
