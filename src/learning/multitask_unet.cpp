@@ -1,6 +1,7 @@
 #include "occlusion_env/learning/multitask_unet.hpp"
 
 #include <cmath>
+#include <string>
 
 #include "occlusion_env/common/errors.hpp"
 
@@ -234,6 +235,14 @@ torch::Tensor escapeDirectionFromLogits(const torch::Tensor& logits,
   const torch::Tensor cos = (weights * torch::cos(angles)).sum(1);
   const torch::Tensor direction = torch::stack({sin, cos}, 1);
   return direction / direction.norm(2, 1, true).clamp_min(1e-12);
+}
+
+float occlusionLogit(double probability) {
+  if (!(probability > 0.0 && probability < 1.0)) {
+    throw InvalidArgumentError("an occlusion probability threshold must lie in (0, 1), not " +
+                               std::to_string(probability));
+  }
+  return static_cast<float>(std::log(probability / (1.0 - probability)));
 }
 
 }  // namespace learning

@@ -9,24 +9,12 @@
 
 namespace occlusion_env {
 namespace learning {
-namespace {
-
-// log(p / (1 - p)) in float, as the logits are compared; InvalidArgumentError outside (0, 1).
-float logitThreshold(double probability) {
-  if (!(probability > 0.0 && probability < 1.0)) {
-    throw InvalidArgumentError("occlusion probability threshold must lie in (0, 1)");
-  }
-  return static_cast<float>(std::log(probability / (1.0 - probability)));
-}
-
-}  // namespace
-
 OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
                                        double probability_threshold,
                                        std::optional<BoundingSurfaceOptions> surfaces)
     : model_(std::move(model)) {
   if (!model_ || !model_->network) throw InvalidArgumentError("occlusion estimator: no model");
-  logit_threshold_ = logitThreshold(probability_threshold);
+  logit_threshold_ = occlusionLogit(probability_threshold);
   format_ = model_->network->config().inputFormat().atRadius(kWorkingRadiusM);
   const int size = model_->network->config().input_size;
   input_ = torch::empty({1, 4, size, size});
@@ -79,7 +67,7 @@ std::int64_t OcclusionEstimator::occludedPixelsAt(double probability) {
   if (last_image_size_.empty()) {
     throw InvalidStateError("occlusion estimator: occludedPixelsAt() before any estimate()");
   }
-  const float logit_threshold = logitThreshold(probability);
+  const float logit_threshold = occlusionLogit(probability);
   const int size = small_mask_.rows;
   const cv::Mat logits(size, size, CV_32FC1, last_logits_.data_ptr<float>());
   cv::compare(logits, logit_threshold, other_small_mask_, cv::CMP_GT);

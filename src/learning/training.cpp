@@ -1,6 +1,7 @@
 #include "occlusion_env/learning/training.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
@@ -538,7 +540,17 @@ torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tenso
 
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg,
-                      torch::Tensor* escape_shortest, torch::Tensor* occlusion_counts) {
+                      torch::Tensor* escape_shortest, torch::Tensor* occlusion_counts,
+                      IouByProbability* iou_by_probability) {
+  std::vector<float> sweep_logits;  // of iou_by_probability's thresholds
+  std::vector<double> sweep_intersections, sweep_unions;
+  if (iou_by_probability) {
+    for (const double p : iou_by_probability->probabilities) {
+      sweep_logits.push_back(occlusionLogit(p));
+    }
+    sweep_intersections.assign(sweep_logits.size(), 0.0);
+    sweep_unions.assign(sweep_logits.size(), 0.0);
+  }
   double escape_bins_angle = 0.0;
   double escape_shortest_count = 0.0, escape_bins_shortest_count = 0.0, shortest_count = 0.0;
   torch::NoGradGuard no_grad;
@@ -565,6 +577,14 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
     const torch::Tensor frame_unions = ((predicted + batch.masks) > 0.0).sum({1, 2, 3});
     intersection += frame_intersections.sum().item<double>();
     union_count += frame_unions.sum().item<double>();
+    if (!sweep_logits.empty()) {
+      const torch::Tensor labelled = batch.masks > 0.5;
+      for (std::size_t i = 0; i < sweep_logits.size(); ++i) {
+        const torch::Tensor swept = out.occlusion_logits > sweep_logits[i];
+        sweep_intersections[i] += (swept & labelled).sum().item<double>();
+        sweep_unions[i] += (swept | labelled).sum().item<double>();
+      }
+    }
     if (occlusion_counts) {
       occlusion_counts->slice(0, start, end)
           .copy_(torch::stack({frame_intersections, frame_unions.to(torch::kFloat),
@@ -623,6 +643,13 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   m.val_escape_bins_angle_deg = escape_bins_angle / std::max(1.0, escape_count);
   m.val_escape_shortest_share = escape_shortest_count / std::max(1.0, shortest_count);
   m.val_escape_bins_shortest_share = escape_bins_shortest_count / std::max(1.0, shortest_count);
+  if (iou_by_probability) {
+    iou_by_probability->ious.clear();
+    for (std::size_t i = 0; i < sweep_logits.size(); ++i) {
+      iou_by_probability->ious.push_back(
+          sweep_unions[i] > 0.0 ? sweep_intersections[i] / sweep_unions[i] : 1.0);
+    }
+  }
   return m;
 }
 
@@ -633,6 +660,85 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
     frames_of[conditions[i]].push_back(static_cast<int64_t>(i));
   }
   return frames_of;
+}
+
+namespace {
+
+// The 2.5th and 97.5th percentiles of `values` (sorted in place).
+std::pair<double, double> interval95(std::vector<double>& values) {
+  std::sort(values.begin(), values.end());
+  const auto percentile = [&](double q) {
+    const auto at =
+        static_cast<std::size_t>(std::floor(q * static_cast<double>(values.size() - 1) + 0.5));
+    return values[at];
+  };
+  return {percentile(0.025), percentile(0.975)};
+}
+
+// Each scene's summed intersection and union over `counts`' rows (evaluate()'s occlusion
+// counts), by seed.
+std::map<std::uint64_t, std::pair<double, double>> sumsByScene(
+    const torch::Tensor& counts, const std::vector<std::uint64_t>& seeds) {
+  if (static_cast<int64_t>(seeds.size()) != counts.size(0)) {
+    throw InvalidArgumentError("one scene seed per frame is needed");
+  }
+  const torch::Tensor rows_double = counts.to(torch::kDouble).contiguous();
+  const auto rows = rows_double.accessor<double, 2>();
+  std::map<std::uint64_t, std::pair<double, double>> sums;
+  for (std::size_t frame = 0; frame < seeds.size(); ++frame) {
+    auto& [intersection, union_px] = sums[seeds[frame]];
+    intersection += rows[static_cast<int64_t>(frame)][0];
+    union_px += rows[static_cast<int64_t>(frame)][1];
+  }
+  return sums;
+}
+
+double pooledIou(double intersection, double union_px) {
+  return union_px > 0.0 ? intersection / union_px : 1.0;  // as evaluate()'s
+}
+
+}  // namespace
+
+IouGap sceneBootstrapIouGap(const torch::Tensor& counts_a,
+                            const std::vector<std::uint64_t>& seeds_a,
+                            const torch::Tensor& counts_b,
+                            const std::vector<std::uint64_t>& seeds_b, int draws,
+                            std::uint64_t seed) {
+  if (draws < 1) throw InvalidArgumentError("sceneBootstrapIouGap: draws must be >= 1");
+  const auto sums_a = sumsByScene(counts_a, seeds_a);
+  const auto sums_b = sumsByScene(counts_b, seeds_b);
+  // Per shared scene: intersection and union in a, then in b.
+  std::vector<std::array<double, 4>> shared;
+  for (const auto& [scene, a] : sums_a) {
+    const auto b = sums_b.find(scene);
+    if (b != sums_b.end()) shared.push_back({a.first, a.second, b->second.first, b->second.second});
+  }
+  if (shared.empty()) {
+    throw InvalidArgumentError("sceneBootstrapIouGap: the two sets hold no scene seed in common");
+  }
+  const auto gapOf = [](const std::array<double, 4>& total) {
+    return pooledIou(total[0], total[1]) - pooledIou(total[2], total[3]);
+  };
+  IouGap result;
+  result.scenes = static_cast<int>(shared.size());
+  std::array<double, 4> total{};
+  for (const auto& scene : shared) {
+    for (int k = 0; k < 4; ++k) total[k] += scene[k];
+  }
+  result.gap = gapOf(total);
+  std::mt19937_64 generator(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, shared.size() - 1);
+  std::vector<double> gaps(static_cast<std::size_t>(draws));
+  for (double& gap : gaps) {
+    std::array<double, 4> drawn{};
+    for (std::size_t i = 0; i < shared.size(); ++i) {
+      const auto& scene = shared[pick(generator)];
+      for (int k = 0; k < 4; ++k) drawn[k] += scene[k];
+    }
+    gap = gapOf(drawn);
+  }
+  std::tie(result.low, result.high) = interval95(gaps);
+  return result;
 }
 
 IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
@@ -669,49 +775,10 @@ IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
       drawn_intersection += intersection[scene];
       drawn_union += union_px[scene];
     }
-    iou = drawn_union > 0.0 ? drawn_intersection / drawn_union : 1.0;  // as evaluate()'s
+    iou = pooledIou(drawn_intersection, drawn_union);
   }
-  std::sort(ious.begin(), ious.end());
-  const auto percentile = [&](double q) {
-    const auto at = static_cast<std::size_t>(std::floor(q * static_cast<double>(draws - 1) + 0.5));
-    return ious[at];
-  };
-  interval.low = percentile(0.025);
-  interval.high = percentile(0.975);
+  std::tie(interval.low, interval.high) = interval95(ious);
   return interval;
-}
-
-std::vector<double> iouByProbability(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                                     const std::vector<double>& probabilities) {
-  std::vector<float> logit_thresholds;
-  for (const double p : probabilities) {
-    if (!(p > 0.0 && p < 1.0)) {
-      throw InvalidArgumentError("an occlusion probability threshold must lie in (0, 1), not " +
-                                 std::to_string(p));
-    }
-    logit_thresholds.push_back(static_cast<float>(std::log(p / (1.0 - p))));
-  }
-  torch::NoGradGuard no_grad;
-  const bool was_training = network->is_training();
-  network->eval();
-  std::vector<double> intersections(probabilities.size(), 0.0), unions(probabilities.size(), 0.0);
-  for (int64_t start = 0; start < samples.size(); start += batch_size) {
-    const int64_t end = std::min<int64_t>(samples.size(), start + batch_size);
-    const Batch batch = batchOf(samples, torch::arange(start, end));
-    const torch::Tensor logits = network->forward(batch.inputs).occlusion_logits;
-    const torch::Tensor labelled = batch.masks > 0.5;
-    for (std::size_t i = 0; i < logit_thresholds.size(); ++i) {
-      const torch::Tensor predicted = logits > logit_thresholds[i];
-      intersections[i] += (predicted & labelled).sum().item<double>();
-      unions[i] += (predicted | labelled).sum().item<double>();
-    }
-  }
-  if (was_training) network->train();
-  std::vector<double> ious;
-  for (std::size_t i = 0; i < probabilities.size(); ++i) {
-    ious.push_back(unions[i] > 0.0 ? intersections[i] / unions[i] : 1.0);
-  }
-  return ious;
 }
 
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
@@ -42,6 +43,7 @@ struct Arguments {
   int montage_frames = 6;
   // With --check: the IoU also at these occlusion probability thresholds (0.5: validation's).
   std::vector<double> check_probabilities = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7};
+  std::string versus_dir;  // with --check: a second dataset, and the gap between the two IoUs
   std::string bench_model;
 };
 
@@ -74,6 +76,14 @@ const OptionTable<Arguments>& argumentTable() {
                           "depth beside (learning/check_montage.hpp)"))
           .add("montage_frames", &Arguments::montage_frames,
                OptionSpec("with --montage: frames per row").range(1, 32))
+          .add("probabilities", &Arguments::check_probabilities,
+               OptionSpec("with --check: also the IoU with the occlusion map thresholded at these "
+                          "probabilities (validation's is 0.5)")
+                   .range(1e-6, 1.0 - 1e-6))
+          .add("versus", &Arguments::versus_dir,
+               OptionSpec("with --check: also the IoU on this dataset (e.g. the randomised frames "
+                          "of the same scene seeds) and the gap, --data's IoU minus this one's, "
+                          "with its 95 % interval by a bootstrap paired by scene"))
           .add("bench_inference", &Arguments::bench_model,
                OptionSpec("instead: time one learned step's inference with this model (input from "
                           "a 256 x 256 observation, batch 1, one thread) and exit"));
@@ -85,8 +95,12 @@ void checkArguments(const Arguments& args) {
   if (!args.check_model.empty() && args.data_dirs.empty()) {
     throw CLI::ValidationError("--check needs --data");
   }
-  if (!args.montage_path.empty() && args.check_model.empty()) {
-    throw CLI::ValidationError("--montage needs --check");
+  for (const auto& [flag, given] :
+       {std::pair<const char*, bool>{"--montage", !args.montage_path.empty()},
+        {"--versus", !args.versus_dir.empty()}}) {
+    if (given && args.check_model.empty()) {
+      throw CLI::ValidationError(std::string(flag) + " needs --check");
+    }
   }
   if (args.bench_model.empty() && args.check_model.empty() &&
       (args.data_dirs.empty() || args.run_dir.empty())) {
@@ -173,7 +187,7 @@ void printConditions(const nlohmann::json& rows) {
 int checkModel(const std::string& model_path, const std::vector<std::string>& data_dirs,
                int threads, double mask_coverage, const std::string& out_path,
                const std::string& montage_path, int montage_frames,
-               const std::vector<double>& probabilities) {
+               const std::vector<double>& probabilities, const std::string& versus_dir) {
   using namespace occlusion_env;
   learning::setLibtorchThreads(threads);
   learning::LoadedModel model = learning::loadModel(model_path);
@@ -187,8 +201,10 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   const std::string loss =
       model.manifest.value("training", nlohmann::json::object()).value("direction_loss", "mse");
   torch::Tensor escape_errors_deg, escape_shortest, occlusion_counts;
-  const learning::EpochMetrics m = learning::evaluate(
-      model.network, frames, 64, loss, &escape_errors_deg, &escape_shortest, &occlusion_counts);
+  learning::IouByProbability by_probability{probabilities, {}};
+  const learning::EpochMetrics m =
+      learning::evaluate(model.network, frames, 64, loss, &escape_errors_deg, &escape_shortest,
+                         &occlusion_counts, &by_probability);
   nlohmann::json result = {{"model", model_path},
                            {"datasets", data_dirs},
                            {"frames", frames.size()},
@@ -212,12 +228,38 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   const nlohmann::json by_condition =
       learning::figuresByCondition(conditions, occlusion_counts, escape_errors_deg, scene_seeds);
   if (by_condition.size() > 1) result["by_condition"] = by_condition;
-  const std::vector<double> ious =
-      learning::iouByProbability(model.network, frames, 64, probabilities);
   result["iou_by_probability"] = nlohmann::json::array();
-  for (std::size_t i = 0; i < ious.size(); ++i) {
+  for (std::size_t i = 0; i < by_probability.ious.size(); ++i) {
     result["iou_by_probability"].push_back(
-        {{"probability", probabilities[i]}, {"val_iou", ious[i]}});
+        {{"probability", probabilities[i]}, {"val_iou", by_probability.ious[i]}});
+  }
+  // The same scenes under another camera: its IoU, and the gap paired by scene.
+  learning::IouGap gap;
+  learning::IouInterval versus_interval;
+  double versus_iou = 0.0;
+  if (!versus_dir.empty()) {
+    std::vector<std::string> versus_conditions;
+    std::vector<std::uint64_t> versus_seeds;
+    const learning::Samples versus_frames =
+        learning::loadCheckFrames({versus_dir}, model.network->config().inputFormat(),
+                                  model.manifest, mask_coverage, &versus_conditions, &versus_seeds);
+    torch::Tensor versus_counts;
+    versus_iou =
+        learning::evaluate(model.network, versus_frames, 64, loss, nullptr, nullptr, &versus_counts)
+            .val_iou;
+    std::vector<int64_t> every_versus_frame(static_cast<std::size_t>(versus_frames.size()));
+    std::iota(every_versus_frame.begin(), every_versus_frame.end(), int64_t{0});
+    versus_interval = learning::sceneBootstrapIou(versus_counts, versus_seeds, every_versus_frame);
+    gap =
+        learning::sceneBootstrapIouGap(occlusion_counts, scene_seeds, versus_counts, versus_seeds);
+    result["versus"] = {{"dataset", versus_dir},
+                        {"frames", versus_frames.size()},
+                        {"scenes", versus_interval.scenes},
+                        {"val_iou", versus_iou},
+                        {"val_iou_95", {versus_interval.low, versus_interval.high}},
+                        {"gap", gap.gap},
+                        {"gap_95", {gap.low, gap.high}},
+                        {"paired_scenes", gap.scenes}};
   }
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
@@ -245,6 +287,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
     std::cout << "no escape labels (made with --no-oracle)";
   }
   std::cout << " (" << out << ")\n";
+  const std::vector<double>& ious = by_probability.ious;
   if (!ious.empty()) {
     std::cout << "IoU with the map thresholded at probability:";
     for (std::size_t i = 0; i < ious.size(); ++i) {
@@ -252,6 +295,13 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
                 << std::setprecision(1) << 100.0 * ious[i] << " %";
     }
     std::cout << '\n';
+  }
+  if (!versus_dir.empty()) {
+    std::cout << "versus " << versus_dir << ": IoU " << std::setprecision(2) << 100.0 * versus_iou
+              << " % (95 % over " << versus_interval.scenes
+              << " scenes: " << 100.0 * versus_interval.low << "-" << 100.0 * versus_interval.high
+              << " %); gap " << 100.0 * gap.gap << " points (95 %, paired over " << gap.scenes
+              << " scenes: " << 100.0 * gap.low << " to " << 100.0 * gap.high << ")\n";
   }
   if (escape_labelled) printEscapeErrors(result["escape_by_oracle_steps"]);
   if (result.contains("by_condition")) printConditions(result["by_condition"]);
@@ -347,7 +397,7 @@ int run(const Arguments& args) {
   if (!args.check_model.empty()) {
     return checkModel(args.check_model, args.data_dirs, args.options.threads,
                       args.options.mask_coverage, args.run_dir, args.montage_path,
-                      args.montage_frames, args.check_probabilities);
+                      args.montage_frames, args.check_probabilities, args.versus_dir);
   }
   return train(args);
 }
@@ -367,7 +417,8 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, learning::networkConfigTable(), args.options.network);
   tools::addOptionFlags(app, learning::trainingOptionTable(), args.options);
   tools::addOptionFlags(app, argumentTable(), args,
-                        {"max_scenes", "check", "montage", "montage_frames", "bench_inference"});
+                        {"max_scenes", "check", "montage", "montage_frames", "probabilities",
+                         "versus", "bench_inference"});
   app.callback([&args] { checkArguments(args); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

@@ -635,13 +635,19 @@ TEST(LearningTest, IouByProbabilityMatchesEvaluateAtOneHalf) {
   NetworkConfig config;
   config.input_size = 32;
   MultiTaskUNet network(config);
-  const std::vector<double> ious = iouByProbability(network, frames, 4, {1e-6, 0.5, 1.0 - 1e-6});
+  IouByProbability by_probability{{1e-6, 0.5, 1.0 - 1e-6}, {}};
+  const EpochMetrics m =
+      evaluate(network, frames, 4, "mse", nullptr, nullptr, nullptr, &by_probability);
+  const std::vector<double>& ious = by_probability.ious;
   ASSERT_EQ(ious.size(), 3u);
-  EXPECT_NEAR(ious[1], evaluate(network, frames, 4, "mse").val_iou, 1e-9);
+  EXPECT_NEAR(ious[1], m.val_iou, 1e-9);
   EXPECT_NEAR(ious[0], frames.masks.sum().item<double>() / frames.masks.numel(), 1e-9);
   EXPECT_EQ(ious[2], 0.0);
-  EXPECT_THROW(iouByProbability(network, frames, 4, {0.0}), InvalidArgumentError);
-  EXPECT_THROW(iouByProbability(network, frames, 4, {1.0}), InvalidArgumentError);
+  for (const double outside : {0.0, 1.0}) {
+    IouByProbability bad{{outside}, {}};
+    EXPECT_THROW(evaluate(network, frames, 4, "mse", nullptr, nullptr, nullptr, &bad),
+                 InvalidArgumentError);
+  }
   fs::remove_all(data_dir);
 }
 
@@ -745,6 +751,44 @@ TEST(LearningTest, TheIousIntervalDrawsWholeScenes) {
   EXPECT_DOUBLE_EQ(interval.low, 0.9);
   EXPECT_DOUBLE_EQ(interval.high, 0.9);
   EXPECT_THROW(sceneBootstrapIou(counts, {1, 2}, frames), InvalidArgumentError);
+}
+
+// The gap between two sets' IoUs is drawn scene by scene in both at once: a scene hard in one set
+// and as hard in the other moves both IoUs alike and not the gap.
+TEST(LearningTest, TheIouGapsIntervalPairsTheScenes) {
+  // Five scenes of very different IoU (0.2-0.9); in b each loses one of its ten pixels hit, so
+  // every draw of the same scenes in both has a gap of exactly 0.1. Drawn apart, the scenes'
+  // spread would make the interval tens of points wide.
+  const torch::Tensor a =
+      torch::tensor({{2.0, 10.0}, {9.0, 10.0}, {5.0, 10.0}, {3.0, 10.0}, {7.0, 10.0}});
+  const std::vector<std::uint64_t> seeds_a = {1, 2, 3, 4, 5};
+  // b: the same scenes in another order, scene 5 missing, scene 6 only here.
+  const torch::Tensor b =
+      torch::tensor({{4.0, 10.0}, {2.0, 10.0}, {1.0, 10.0}, {8.0, 10.0}, {0.0, 10.0}});
+  const std::vector<std::uint64_t> seeds_b = {3, 4, 1, 2, 6};
+  IouGap gap = sceneBootstrapIouGap(a, seeds_a, b, seeds_b, 4000, 3);
+  EXPECT_EQ(gap.scenes, 4);
+  EXPECT_NEAR(gap.gap, 0.1, 1e-12);  // (19 - 15) / 40 over the four shared scenes
+  EXPECT_NEAR(gap.low, 0.1, 1e-12);
+  EXPECT_NEAR(gap.high, 0.1, 1e-12);
+
+  // Gaps that differ by scene: an interval around the pooled gap, the same for the same seed.
+  const torch::Tensor c =
+      torch::tensor({{2.0, 10.0}, {3.0, 10.0}, {5.0, 10.0}, {3.0, 10.0}, {2.0, 10.0}});
+  gap = sceneBootstrapIouGap(a, seeds_a, c, seeds_a, 4000, 3);
+  EXPECT_EQ(gap.scenes, 5);
+  EXPECT_NEAR(gap.gap, 0.22, 1e-12);  // (26 - 15) / 50
+  EXPECT_LT(gap.low, 0.22);
+  EXPECT_GT(gap.high, 0.22);
+  EXPECT_GE(gap.low, 0.0);  // no draw beyond the scenes' own gaps, 0 to 0.6
+  EXPECT_LE(gap.high, 0.6);
+  const IouGap again = sceneBootstrapIouGap(a, seeds_a, c, seeds_a, 4000, 3);
+  EXPECT_EQ(again.low, gap.low);
+  EXPECT_EQ(again.high, gap.high);
+
+  EXPECT_THROW(sceneBootstrapIouGap(a, seeds_a, b, {7, 8, 9, 10, 11}), InvalidArgumentError)
+      << "no scene in both";
+  EXPECT_THROW(sceneBootstrapIouGap(a, {1, 2}, b, seeds_b), InvalidArgumentError);
 }
 
 // The escape error by the oracle's steps: each labelled frame in its row and in "all", frames

@@ -131,5 +131,9 @@ torch::Tensor escapeBinTargets(const torch::Tensor& labels, int bins, double kap
 torch::Tensor escapeDirectionFromLogits(const torch::Tensor& logits,
                                         const torch::Tensor& choice_bias = {});
 
+/// The occlusion logit of a probability threshold, log(p / (1 - p)) in float, as the occlusion
+/// map's logits are compared with it; InvalidArgumentError outside (0, 1).
+float occlusionLogit(double probability);
+
 }  // namespace learning
 }  // namespace occlusion_env

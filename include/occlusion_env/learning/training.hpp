@@ -166,17 +166,27 @@ struct EpochMetrics {
   nlohmann::json toJson() const;
 };
 
+/// The pooled IoU (sum of intersections / sum of unions over the frames) of the network's
+/// occlusion map thresholded at other probabilities than evaluate()'s 0.5: where between sure
+/// and eager a model's maps match the labels best.
+struct IouByProbability {
+  std::vector<double> probabilities;  // in (0, 1); InvalidArgumentError otherwise
+  std::vector<double> ious;           // [0, 1], one per probability, filled by evaluate()
+};
+
 /// Validation figures of `network` on `samples` (eval mode, no gradients). Per frame, of the head
 /// the predicted-escape agent moves by (the escape-bins head's choice when there is one, else the
 /// escape head): with `escape_errors_deg`, its angular error [deg], NaN where a frame has no
 /// escape label; with `escape_shortest`, whether its move is one of the frame's shortest first
 /// moves (1 / 0), NaN where it records none; with `occlusion_counts`, [N, 4] its occlusion
 /// map's intersection and union with the label, the label's pixels and the map's [px at the
-/// network's size] (sums over the frames of the first two give the IoU).
+/// network's size] (sums over the frames of the first two give the IoU); with
+/// `iou_by_probability`, the pooled IoU at each of its thresholds, counted in the same pass.
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg = nullptr,
                       torch::Tensor* escape_shortest = nullptr,
-                      torch::Tensor* occlusion_counts = nullptr);
+                      torch::Tensor* occlusion_counts = nullptr,
+                      IouByProbability* iou_by_probability = nullptr);
 
 /// Targets [B, bins] of the escape-bins head from shortest first moves [B, n] (0 / 1, n a
 /// multiple of bins; bin k is direction k n / bins): each shortest move weighted by how many
@@ -236,12 +246,24 @@ IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
                               const std::vector<int64_t>& frames, int draws = 2000,
                               std::uint64_t seed = 1);
 
-/// The pooled IoU (sum of intersections / sum of unions over `samples`) of the network's
-/// occlusion map thresholded at each of `probabilities` (in (0, 1); 0.5 is evaluate()'s), in
-/// their order: where between sure and eager a model's maps match the labels best.
-/// InvalidArgumentError for a probability outside (0, 1).
-std::vector<double> iouByProbability(MultiTaskUNet& network, const Samples& samples, int batch_size,
-                                     const std::vector<double>& probabilities);
+/// The gap between two sets' pooled IoUs and how far it would move on other scenes.
+struct IouGap {
+  double gap = 0.0;              // a's pooled IoU minus b's, over the scenes both hold
+  double low = 0.0, high = 0.0;  // its 2.5th and 97.5th percentiles
+  int scenes = 0;                // the scenes both hold
+};
+
+/// The gap of a's pooled IoU over b's (`counts_*`, [N, 4] as evaluate()'s occlusion_counts, one
+/// scene seed per row in `seeds_*`) on the scenes both sets hold, and its 95 % interval by a
+/// paired bootstrap: the shared scenes drawn with replacement `draws` times, each with all its
+/// frames in both sets, since a scene that is hard under one camera tends to be hard under
+/// another (the same seed is the same objects, placed alike). Deterministic for a `seed`.
+/// InvalidArgumentError when no scene is in both.
+IouGap sceneBootstrapIouGap(const torch::Tensor& counts_a,
+                            const std::vector<std::uint64_t>& seeds_a,
+                            const torch::Tensor& counts_b,
+                            const std::vector<std::uint64_t>& seeds_b, int draws = 2000,
+                            std::uint64_t seed = 1);
 
 struct TrainingCallbacks {
   std::function<void(int epoch, int batch, int batches)> on_batch;
