@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <random>
@@ -675,22 +676,41 @@ std::pair<double, double> interval95(std::vector<double>& values) {
   return {percentile(0.025), percentile(0.975)};
 }
 
-// Each scene's summed intersection and union over `counts`' rows (evaluate()'s occlusion
-// counts), by seed.
-std::map<std::uint64_t, std::pair<double, double>> sumsByScene(
-    const torch::Tensor& counts, const std::vector<std::uint64_t>& seeds) {
+// Each scene's summed intersection and union over the rows `frames` of `counts` (evaluate()'s
+// occlusion counts, one scene seed per row in `seeds`), the scenes in order of first appearance.
+struct SceneSums {
+  std::vector<std::uint64_t> seeds;
+  std::vector<double> intersection, union_px;
+};
+
+SceneSums sumsByScene(const torch::Tensor& counts, const std::vector<std::uint64_t>& seeds,
+                      const std::vector<int64_t>& frames) {
   if (static_cast<int64_t>(seeds.size()) != counts.size(0)) {
-    throw InvalidArgumentError("one scene seed per frame is needed");
+    throw InvalidArgumentError("one scene seed per frame is needed (" +
+                               std::to_string(seeds.size()) + " seeds, " +
+                               std::to_string(counts.size(0)) + " frames)");
   }
   const torch::Tensor rows_double = counts.to(torch::kDouble).contiguous();
   const auto rows = rows_double.accessor<double, 2>();
-  std::map<std::uint64_t, std::pair<double, double>> sums;
-  for (std::size_t frame = 0; frame < seeds.size(); ++frame) {
-    auto& [intersection, union_px] = sums[seeds[frame]];
-    intersection += rows[static_cast<int64_t>(frame)][0];
-    union_px += rows[static_cast<int64_t>(frame)][1];
+  SceneSums sums;
+  std::map<std::uint64_t, std::size_t> scene_of_seed;
+  for (const int64_t frame : frames) {
+    const auto [it, added] = scene_of_seed.emplace(seeds.at(frame), sums.seeds.size());
+    if (added) {
+      sums.seeds.push_back(seeds.at(frame));
+      sums.intersection.push_back(0.0);
+      sums.union_px.push_back(0.0);
+    }
+    sums.intersection[it->second] += rows[frame][0];
+    sums.union_px[it->second] += rows[frame][1];
   }
   return sums;
+}
+
+std::vector<int64_t> everyRow(const torch::Tensor& counts) {
+  std::vector<int64_t> rows(static_cast<std::size_t>(counts.size(0)));
+  std::iota(rows.begin(), rows.end(), int64_t{0});
+  return rows;
 }
 
 double pooledIou(double intersection, double union_px) {
@@ -705,13 +725,17 @@ IouGap sceneBootstrapIouGap(const torch::Tensor& counts_a,
                             const std::vector<std::uint64_t>& seeds_b, int draws,
                             std::uint64_t seed) {
   if (draws < 1) throw InvalidArgumentError("sceneBootstrapIouGap: draws must be >= 1");
-  const auto sums_a = sumsByScene(counts_a, seeds_a);
-  const auto sums_b = sumsByScene(counts_b, seeds_b);
-  // Per shared scene: intersection and union in a, then in b.
+  const SceneSums a = sumsByScene(counts_a, seeds_a, everyRow(counts_a));
+  const SceneSums b = sumsByScene(counts_b, seeds_b, everyRow(counts_b));
+  std::map<std::uint64_t, std::size_t> scene_in_b;
+  for (std::size_t j = 0; j < b.seeds.size(); ++j) scene_in_b[b.seeds[j]] = j;
+  // Per shared scene, in a's order: intersection and union in a, then in b.
   std::vector<std::array<double, 4>> shared;
-  for (const auto& [scene, a] : sums_a) {
-    const auto b = sums_b.find(scene);
-    if (b != sums_b.end()) shared.push_back({a.first, a.second, b->second.first, b->second.second});
+  for (std::size_t i = 0; i < a.seeds.size(); ++i) {
+    const auto j = scene_in_b.find(a.seeds[i]);
+    if (j == scene_in_b.end()) continue;
+    shared.push_back(
+        {a.intersection[i], a.union_px[i], b.intersection[j->second], b.union_px[j->second]});
   }
   if (shared.empty()) {
     throw InvalidArgumentError("sceneBootstrapIouGap: the two sets hold no scene seed in common");
@@ -745,23 +769,9 @@ IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
                               const std::vector<std::uint64_t>& scene_seeds,
                               const std::vector<int64_t>& frames, int draws, std::uint64_t seed) {
   if (draws < 1) throw InvalidArgumentError("sceneBootstrapIou: draws must be >= 1");
-  if (static_cast<int64_t>(scene_seeds.size()) != occlusion_counts.size(0)) {
-    throw InvalidArgumentError("sceneBootstrapIou: one scene seed per frame is needed");
-  }
-  // Each scene's summed intersection and union, in order of first appearance.
-  const torch::Tensor counts = occlusion_counts.to(torch::kDouble).contiguous();
-  const auto rows = counts.accessor<double, 2>();
-  std::map<std::uint64_t, std::size_t> scene_of_seed;
-  std::vector<double> intersection, union_px;
-  for (const int64_t frame : frames) {
-    const auto [it, added] = scene_of_seed.emplace(scene_seeds.at(frame), intersection.size());
-    if (added) {
-      intersection.push_back(0.0);
-      union_px.push_back(0.0);
-    }
-    intersection[it->second] += rows[frame][0];
-    union_px[it->second] += rows[frame][1];
-  }
+  const SceneSums sums = sumsByScene(occlusion_counts, scene_seeds, frames);
+  const std::vector<double>& intersection = sums.intersection;
+  const std::vector<double>& union_px = sums.union_px;
   IouInterval interval;
   interval.scenes = static_cast<int>(intersection.size());
   if (intersection.empty()) return interval;

@@ -238,11 +238,10 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   learning::IouInterval versus_interval;
   double versus_iou = 0.0;
   if (!versus_dir.empty()) {
-    std::vector<std::string> versus_conditions;
     std::vector<std::uint64_t> versus_seeds;
     const learning::Samples versus_frames =
         learning::loadCheckFrames({versus_dir}, model.network->config().inputFormat(),
-                                  model.manifest, mask_coverage, &versus_conditions, &versus_seeds);
+                                  model.manifest, mask_coverage, nullptr, &versus_seeds);
     torch::Tensor versus_counts;
     versus_iou =
         learning::evaluate(model.network, versus_frames, 64, loss, nullptr, nullptr, &versus_counts)
