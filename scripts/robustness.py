@@ -111,7 +111,9 @@ def markdown(results, models, scene_sets=SCENE_SETS):
         r = results[condition]
         cells = [condition]
         cells += ["%.1f %%" % (100 * r[n]["check"]["iou"]) for n in names]
-        cells += ["%.1f deg" % r[n]["check"]["escape_deg"] for n in names]
+        # null: frames without escape labels (made with --no-oracle)
+        cells += ["-" if r[n]["check"]["escape_deg"] is None else
+                  "%.1f deg" % r[n]["check"]["escape_deg"] for n in names]
         for scene_set in scene_sets:
             for n in names:
                 a = r[n][scene_set]
@@ -131,7 +133,9 @@ def plot(results, models, path):
     names = [name for name, _ in models]
     labels = [c for c, _ in CONDITIONS if c in results]
     panels = [("occlusion IoU [%]", lambda r, n: 100 * r[n]["check"]["iou"]),
-              ("escape-direction error [deg]", lambda r, n: r[n]["check"]["escape_deg"])]
+              ("escape-direction error [deg]",
+               lambda r, n: float("nan") if r[n]["check"]["escape_deg"] is None
+               else r[n]["check"]["escape_deg"])]
     if "test_sweethome3d" in results[labels[0]][names[0]]:
         panels.append(("predicted_escape mean steps, test_sweethome3d",
                        lambda r, n: r[n]["test_sweethome3d"]["mean_steps"]))

@@ -18,6 +18,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
 
 namespace occlusion_env {
@@ -115,15 +116,6 @@ double sampleStandardDeviation(const std::vector<double>& values, double values_
   double sum_squares = 0.0;
   for (const double value : values) sum_squares += (value - values_mean) * (value - values_mean);
   return std::sqrt(sum_squares / static_cast<double>(values.size() - 1));
-}
-
-double median(std::vector<double> values) {
-  const std::size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + middle, values.end());
-  double upper = values[middle];
-  if (values.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(values.begin(), values.begin() + middle);
-  return 0.5 * (lower + upper);
 }
 
 void validateOptions(const BestOptions& options) {

@@ -19,6 +19,7 @@
 #include <tuple>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/model_file.hpp"
@@ -665,15 +666,9 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
 
 namespace {
 
-// The 2.5th and 97.5th percentiles of `values` (sorted in place).
-std::pair<double, double> interval95(std::vector<double>& values) {
-  std::sort(values.begin(), values.end());
-  const auto percentile = [&](double q) {
-    const auto at =
-        static_cast<std::size_t>(std::floor(q * static_cast<double>(values.size() - 1) + 0.5));
-    return values[at];
-  };
-  return {percentile(0.025), percentile(0.975)};
+// The 2.5th and 97.5th percentiles of `values`.
+std::pair<double, double> interval95(const std::vector<double>& values) {
+  return {percentile(values, 0.025), percentile(values, 0.975)};
 }
 
 // Each scene's summed intersection and union over the rows `frames` of `counts` (evaluate()'s

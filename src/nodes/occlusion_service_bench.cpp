@@ -13,6 +13,7 @@
 #include <functional>
 #include <vector>
 
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/ros/environment_client.hpp"
 #include "occlusion_env/ros/names.hpp"
@@ -22,6 +23,8 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using occlusion_env::median;
+using occlusion_env::percentile;
 
 struct StepTiming {
   double milliseconds = 0.0;
@@ -31,11 +34,6 @@ struct StepTiming {
 // The i-th action of the fixed sequence both sides run: mostly sideways, with a slow vertical wave.
 occlusion_env::Action actionAt(int i) {
   return {1.0, 0.5 * std::sin(0.1 * i)};
-}
-
-double percentile(std::vector<double> values, double fraction) {
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(fraction * (values.size() - 1))];
 }
 
 // Runs `steps` timed steps; `reset` starts a new episode (untimed) whenever one ends.
@@ -81,8 +79,8 @@ int run(ros::NodeHandle& private_node, ros::NodeHandle& node) {
   const std::vector<double> local = timed_steps(environment);
   const std::vector<double> remote = timed_steps(client);
 
-  const double local_median = percentile(local, 0.5);
-  const double remote_median = percentile(remote, 0.5);
+  const double local_median = median(local);
+  const double remote_median = median(remote);
   std::printf("%d steps at %dx%d, seed %d\n", steps, options.environment.width,
               options.environment.height, seed);
   std::printf("in-process step:    median %.3f ms, p90 %.3f ms\n", local_median,

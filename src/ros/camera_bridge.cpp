@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/learning/occlusion_estimator.hpp"
 #include "occlusion_env/ros/msg_conversion.hpp"
 #include "occlusion_env/ros/names.hpp"
@@ -25,11 +26,6 @@ constexpr double kTfWait_s = 0.1;          // how long tf may lag behind a frame
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
 }
 
 std::string milliseconds(double seconds) {

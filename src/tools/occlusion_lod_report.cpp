@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/geometry/camera.hpp"
 #include "occlusion_env/render/lod_quality.hpp"
@@ -20,6 +21,7 @@
 
 namespace {
 
+using occlusion_env::median;
 using occlusion_env::OptionSpec;
 using occlusion_env::OptionTable;
 
@@ -55,12 +57,6 @@ const OptionTable<Arguments>& argumentTable() {
           .add("per_object", &Arguments::per_object,
                OptionSpec("also print each object's worst IoU"));
   return table;
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 /// Every object's worst silhouette IoU per budget and distance, and the triangle counts.

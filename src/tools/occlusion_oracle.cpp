@@ -15,11 +15,13 @@
 #include <vector>
 
 #include "occlusion_env/agents/oracle.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/tools/cli_options.hpp"
 
 namespace {
 
+using occlusion_env::median;
 using occlusion_env::OptionSpec;
 using occlusion_env::OptionTable;
 
@@ -61,12 +63,6 @@ double mean(const std::vector<double>& values) {
   double sum = 0.0;
   for (const double value : values) sum += value;
   return values.empty() ? 0.0 : sum / values.size();
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
 }
 
 /// What the queries cost and answered, for the summary line.

@@ -17,6 +17,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
+#include "occlusion_env/common/statistics.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -91,13 +92,15 @@ const OptionTable<Arguments>& argumentTable() {
 }
 
 /// The rules between the flags.
-void checkArguments(const Arguments& args) {
+// `probabilities_given`: --probabilities was on the command line (it has a default).
+void checkArguments(const Arguments& args, bool probabilities_given) {
   if (!args.check_model.empty() && args.data_dirs.empty()) {
     throw CLI::ValidationError("--check needs --data");
   }
   for (const auto& [flag, given] :
        {std::pair<const char*, bool>{"--montage", !args.montage_path.empty()},
-        {"--versus", !args.versus_dir.empty()}}) {
+        {"--versus", !args.versus_dir.empty()},
+        {"--probabilities", probabilities_given}}) {
     if (given && args.check_model.empty()) {
       throw CLI::ValidationError(std::string(flag) + " needs --check");
     }
@@ -126,12 +129,10 @@ int benchInference(const std::string& model_path) {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
     if (i >= 20) milliseconds.push_back(ms);  // after warm-up
   }
-  std::sort(milliseconds.begin(), milliseconds.end());
   std::cout << "inference of " << model_path << " (" << model->network->config().input_size
             << " px input from 256 x 256, batch 1, 1 thread, BLAS " << learning::loadedBlasLibrary()
-            << "): median " << std::fixed << std::setprecision(2)
-            << milliseconds[milliseconds.size() / 2] << " ms, p90 "
-            << milliseconds[milliseconds.size() * 9 / 10] << " ms over 200 steps\n";
+            << "): median " << std::fixed << std::setprecision(2) << median(milliseconds)
+            << " ms, p90 " << percentile(milliseconds, 0.9) << " ms over 200 steps\n";
   return 0;
 }
 
@@ -215,6 +216,14 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
        {"epoch", "learning_rate", "train_loss", "seconds", "images_per_second"}) {
     result["figures"].erase(unused);
   }
+  // Frames made without the oracle have no escape label: the escape figures are not measured
+  // (null), rather than 0.
+  const bool escape_labelled = frames.escape_valid.sum().item<double>() > 0.0;
+  if (!escape_labelled) {
+    for (auto& [key, value] : result["figures"].items()) {
+      if (key.rfind("val_escape", 0) == 0) value = nullptr;
+    }
+  }
   // How far the IoU would move on other scenes: a check set of few scenes is a noisy figure.
   std::vector<int64_t> every_frame(static_cast<std::size_t>(frames.size()));
   std::iota(every_frame.begin(), every_frame.end(), int64_t{0});
@@ -264,7 +273,6 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
   std::ofstream(out) << result.dump(2) << '\n';
-  const bool escape_labelled = frames.escape_valid.sum().item<double>() > 0.0;
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames"
             << (mask_coverage != learning::kPaperMaskCoverage
@@ -418,6 +426,6 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, argumentTable(), args,
                         {"max_scenes", "check", "montage", "montage_frames", "probabilities",
                          "versus", "bench_inference"});
-  app.callback([&args] { checkArguments(args); });
+  app.callback([&args, &app] { checkArguments(args, app.count("--probabilities") > 0); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

@@ -44,4 +44,14 @@ for tool in "${tools[@]}"; do
   [[ $code == 2 ]] || { echo "tools_help: $tool --no-such-flag gave exit code $code, not 2"; status=1; }
   echo "tools_help: $tool: --help lists its $count documented flags; a bad flag gives exit code 2"
 done
+# Flags that only occlusion_train --check reads are refused without it, not silently ignored.
+for flag in "--probabilities 0.3" "--versus /nonexistent" "--montage /nonexistent.png"; do
+  code=0
+  # shellcheck disable=SC2086 # the flag and its value, two words
+  said=$("$bin/occlusion_train" --data /nonexistent --out /nonexistent $flag 2>&1) || code=$?
+  if [[ $code != 2 || $said != *"${flag%% *} needs --check"* ]]; then
+    echo "tools_help: occlusion_train $flag without --check gave exit code $code: $said"; status=1
+  fi
+done
+echo "tools_help: occlusion_train refuses --probabilities, --versus and --montage without --check"
 exit $status
