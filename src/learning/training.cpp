@@ -540,6 +540,21 @@ torch::Tensor isShortestMove(const torch::Tensor& directions, const torch::Tenso
   return shortest_moves.gather(1, nearest.unsqueeze(1)).squeeze(1).to(torch::kFloat);
 }
 
+torch::Tensor occlusionCounts(const torch::Tensor& predicted, const torch::Tensor& masks) {
+  const torch::Tensor labelled = (masks > 0.5).to(torch::kFloat);
+  const torch::Tensor map = (predicted > 0.5).to(torch::kFloat);
+  const torch::Tensor false_positive = map * (1.0 - labelled);
+  // The label dilated by a 3 x 3 and a 7 x 7 max-pool: within 1 and 3 px (Chebyshev).
+  const torch::Tensor near_1px = torch::max_pool2d(labelled, {3, 3}, {1, 1}, {1, 1});
+  const torch::Tensor near_3px = torch::max_pool2d(labelled, {7, 7}, {1, 1}, {3, 3});
+  const std::vector<int64_t> pixels = {1, 2, 3};
+  return torch::stack(
+      {(map * labelled).sum(pixels), ((map + labelled) > 0.0).sum(pixels).to(torch::kFloat),
+       labelled.sum(pixels), map.sum(pixels), (false_positive * near_1px).sum(pixels),
+       (false_positive * near_3px).sum(pixels)},
+      1);
+}
+
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg,
                       torch::Tensor* escape_shortest, torch::Tensor* occlusion_counts,
@@ -564,7 +579,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
   const int64_t n = samples.size();
   if (escape_errors_deg) *escape_errors_deg = torch::full({n}, std::nan(""));
   if (escape_shortest) *escape_shortest = torch::full({n}, std::nan(""));
-  if (occlusion_counts) *occlusion_counts = torch::zeros({n, 4});
+  if (occlusion_counts) *occlusion_counts = torch::zeros({n, kOcclusionCounts});
   for (int64_t start = 0; start < n; start += batch_size) {
     const int64_t end = std::min<int64_t>(n, start + batch_size);
     const torch::Tensor indices = torch::arange(start, end);
@@ -575,10 +590,9 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
     const torch::Tensor predicted = (out.occlusion_logits > 0.0).to(torch::kFloat);
     correct += (predicted == batch.masks).sum().item<double>();
     pixels += static_cast<double>(batch.masks.numel());
-    const torch::Tensor frame_intersections = (predicted * batch.masks).sum({1, 2, 3});
-    const torch::Tensor frame_unions = ((predicted + batch.masks) > 0.0).sum({1, 2, 3});
-    intersection += frame_intersections.sum().item<double>();
-    union_count += frame_unions.sum().item<double>();
+    const torch::Tensor frame_counts = occlusionCounts(predicted, batch.masks);
+    intersection += frame_counts.select(1, 0).sum().item<double>();
+    union_count += frame_counts.select(1, 1).sum().item<double>();
     if (!sweep_logits.empty()) {
       const torch::Tensor labelled = batch.masks > 0.5;
       for (std::size_t i = 0; i < sweep_logits.size(); ++i) {
@@ -587,12 +601,7 @@ EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_
         sweep_unions[i] += (swept | labelled).sum().item<double>();
       }
     }
-    if (occlusion_counts) {
-      occlusion_counts->slice(0, start, end)
-          .copy_(torch::stack({frame_intersections, frame_unions.to(torch::kFloat),
-                               batch.masks.sum({1, 2, 3}), predicted.sum({1, 2, 3})},
-                              1));
-    }
+    if (occlusion_counts) occlusion_counts->slice(0, start, end).copy_(frame_counts);
     gradient_loss += (directionLoss(out.gradient_direction, batch.gradient, direction_loss) *
                       batch.gradient_valid)
                          .sum()
@@ -806,6 +815,14 @@ nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                           {"predicted_px", predicted_px},
                           {"precision", predicted_px > 0.0 ? intersection_px / predicted_px : 1.0},
                           {"recall", labelled_px > 0.0 ? intersection_px / labelled_px : 1.0}};
+    if (counts.size(0) >= kOcclusionCounts) {
+      const double false_positive_px = predicted_px - intersection_px;
+      row["false_positive_px"] = false_positive_px;
+      if (false_positive_px > 0.0) {
+        row["false_positives_within_1px"] = counts[4].item<double>() / false_positive_px;
+        row["false_positives_within_3px"] = counts[5].item<double>() / false_positive_px;
+      }
+    }
     if (!scene_seeds.empty()) {
       const IouInterval interval = sceneBootstrapIou(occlusion_counts, scene_seeds, frames);
       row["scenes"] = interval.scenes;

@@ -167,7 +167,7 @@ std::string intervalText(const nlohmann::json& interval) {
 void printConditions(const nlohmann::json& rows) {
   std::cout << "by world and depth sensor:\n"
             << "  world, depth sensor           frames  scenes     IoU   95 % over scenes  "
-               "precision  recall   escape\n";
+               "precision  recall  false alarms <= 1 px, <= 3 px from the label   escape\n";
   for (const nlohmann::json& row : rows) {
     std::cout << "  " << std::left << std::setw(28) << row["condition"].get<std::string>()
               << std::right << std::setw(8) << row["frames"].get<int64_t>() << std::setw(8)
@@ -176,8 +176,16 @@ void printConditions(const nlohmann::json& rows) {
               << intervalText(row["val_iou_95"]) << std::setw(11)
               << 100.0 * row["precision"].get<double>() << " %" << std::setw(6)
               << 100.0 * row["recall"].get<double>() << " %";
-    if (row.contains("mean_escape_deg")) {
-      std::cout << std::setw(7) << row["mean_escape_deg"].get<double>() << " deg";
+    if (row.contains("false_positives_within_1px")) {
+      std::cout << std::setw(20) << 100.0 * row["false_positives_within_1px"].get<double>() << " %"
+                << std::setw(7) << 100.0 * row["false_positives_within_3px"].get<double>() << " %";
+    } else {
+      std::cout << std::setw(20) << "-"
+                << "  " << std::setw(7) << "-"
+                << "  ";  // none
+    }
+    if (row.contains("mean_escape_deg")) {  // under its heading, past the false alarms' one
+      std::cout << std::setw(22) << row["mean_escape_deg"].get<double>() << " deg";
     }
     std::cout << '\n';
   }

@@ -715,6 +715,33 @@ TEST(LearningTest, CheckFramesAreNamedByTheirWorldAndDepthSensor) {
   for (const fs::path& dir : {void_dir, room_dir}) fs::remove_all(dir);
 }
 
+// The counts behind the IoU, precision and recall, and the false positives by their distance to
+// the label: next to it (a fattened mask) or apart from it.
+TEST(LearningTest, OcclusionCountsSortFalsePositivesByTheirDistanceToTheLabel) {
+  torch::Tensor label = torch::zeros({2, 1, 16, 16});
+  label.index_put_({0, 0, torch::indexing::Slice(4, 8), torch::indexing::Slice(4, 8)}, 1.0);
+  torch::Tensor map = label.clone();
+  map.index_put_({0, 0, 3, 5}, 1.0);    // next to the label: 1 px (above its top row)
+  map.index_put_({0, 0, 5, 10}, 1.0);   // 3 px right of its last column
+  map.index_put_({0, 0, 14, 14}, 1.0);  // 7 px away
+  map.index_put_({0, 0, 4, 4}, 0.0);    // a miss
+  map.index_put_({1, 0, 0, 0}, 1.0);    // frame 1: no label, one false alarm
+  const torch::Tensor counts = occlusionCounts(map, label);
+  ASSERT_EQ(counts.sizes(), (torch::IntArrayRef{2, kOcclusionCounts}));
+  const std::vector<double> expected[] = {{15, 19, 16, 18, 1, 2}, {0, 1, 0, 1, 0, 0}};
+  for (int frame = 0; frame < 2; ++frame) {
+    for (int k = 0; k < kOcclusionCounts; ++k) {
+      EXPECT_EQ(counts[frame][k].item<double>(), expected[frame][k]) << frame << ", " << k;
+    }
+  }
+  const nlohmann::json rows =
+      figuresByCondition({"a", "a"}, counts, torch::full({2}, std::nan("")));
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0]["false_positive_px"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(rows[0]["false_positives_within_1px"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(rows[0]["false_positives_within_3px"].get<double>(), 0.5);
+}
+
 // The IoU's interval draws scenes, not frames: frames of one scene move together.
 TEST(LearningTest, TheIousIntervalDrawsWholeScenes) {
   // Four scenes of two frames each: in every scene one frame is all hit (10 / 10) and one all

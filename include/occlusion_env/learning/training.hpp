@@ -174,13 +174,21 @@ struct IouByProbability {
   std::vector<double> ious;           // [0, 1], one per probability, filled by evaluate()
 };
 
+/// The columns of evaluate()'s occlusion_counts.
+constexpr int64_t kOcclusionCounts = 6;
+
+/// Per frame of an occlusion map `predicted` and its label `masks` (both [B, 1, H, W], 1 / 0):
+/// [B, kOcclusionCounts] the intersection, the union, the label's pixels, the map's, and the
+/// map's false positives within 1 and within 3 pixels of a labelled pixel (Chebyshev distance).
+torch::Tensor occlusionCounts(const torch::Tensor& predicted, const torch::Tensor& masks);
+
 /// Validation figures of `network` on `samples` (eval mode, no gradients). Per frame, of the head
 /// the predicted-escape agent moves by (the escape-bins head's choice when there is one, else the
 /// escape head): with `escape_errors_deg`, its angular error [deg], NaN where a frame has no
 /// escape label; with `escape_shortest`, whether its move is one of the frame's shortest first
-/// moves (1 / 0), NaN where it records none; with `occlusion_counts`, [N, 4] its occlusion
-/// map's intersection and union with the label, the label's pixels and the map's [px at the
-/// network's size] (sums over the frames of the first two give the IoU); with
+/// moves (1 / 0), NaN where it records none; with `occlusion_counts`, occlusionCounts() of its
+/// occlusion map (logit > 0) and the label [px at the network's size] (sums over the frames of
+/// the first two give the IoU); with
 /// `iou_by_probability`, the pooled IoU at each of its thresholds, counted in the same pass.
 EpochMetrics evaluate(MultiTaskUNet& network, const Samples& samples, int batch_size,
                       const std::string& direction_loss, torch::Tensor* escape_errors_deg = nullptr,
@@ -221,7 +229,10 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
 /// evaluate()'s per-frame figures by what the frames were seen under (`conditions`, one per
 /// frame, as loadCheckFrames gives them): a row per condition, in name order, with frames,
 /// val_iou, labelled_px, predicted_px, precision and recall (from `occlusion_counts`; precision
-/// and recall 1 where nothing is predicted or labelled) and mean_escape_deg (of
+/// and recall 1 where nothing is predicted or labelled), with counts of kOcclusionCounts columns
+/// false_positive_px and the shares of them within 1 and within 3 px of the label
+/// (false_positives_within_1px, _within_3px: whether false alarms fatten the labelled occlusion
+/// or stand apart from it; absent where there is no false positive), and mean_escape_deg (of
 /// `escape_errors_deg`' labelled frames; absent where none is labelled).
 /// With `scene_seeds` (one per frame), each row also has its scenes and val_iou_95
 /// (sceneBootstrapIou's interval).
@@ -237,7 +248,8 @@ struct IouInterval {
 };
 
 /// The 95 % interval of the pooled IoU (sum of intersections / sum of unions) of `frames` (rows
-/// of `occlusion_counts`, [N, 4] as evaluate() gives them), by a percentile bootstrap over
+/// of `occlusion_counts`, as evaluate() gives them: columns 0 and 1 are read), by a percentile
+/// bootstrap over
 /// scenes: the scenes (`scene_seeds`, one per row) drawn again with replacement `draws` times,
 /// each with all its frames, since views of one scene err alike. Deterministic for a `seed`.
 /// Frames of one seed in two datasets count as one scene: the same objects, placed alike.
@@ -253,7 +265,7 @@ struct IouGap {
   int scenes = 0;                // the scenes both hold
 };
 
-/// The gap of a's pooled IoU over b's (`counts_*`, [N, 4] as evaluate()'s occlusion_counts, one
+/// The gap of a's pooled IoU over b's (`counts_*`, as evaluate()'s occlusion_counts, one
 /// scene seed per row in `seeds_*`) on the scenes both sets hold, and its 95 % interval by a
 /// paired bootstrap: the shared scenes drawn with replacement `draws` times, each with all its
 /// frames in both sets, since a scene that is hard under one camera tends to be hard under
