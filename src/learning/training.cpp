@@ -799,6 +799,11 @@ nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                                   const torch::Tensor& occlusion_counts,
                                   const torch::Tensor& escape_errors_deg,
                                   const std::vector<std::uint64_t>& scene_seeds) {
+  if (occlusion_counts.dim() != 2 || occlusion_counts.size(1) != kOcclusionCounts) {
+    throw InvalidArgumentError(
+        "figuresByCondition: occlusion_counts must be occlusionCounts()' [N, " +
+        std::to_string(kOcclusionCounts) + "]");
+  }
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& [condition, frames] : framesByCondition(conditions)) {
     const torch::Tensor index = torch::tensor(frames, torch::kLong);
@@ -815,13 +820,11 @@ nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
                           {"predicted_px", predicted_px},
                           {"precision", predicted_px > 0.0 ? intersection_px / predicted_px : 1.0},
                           {"recall", labelled_px > 0.0 ? intersection_px / labelled_px : 1.0}};
-    if (counts.size(0) >= kOcclusionCounts) {
-      const double false_positive_px = predicted_px - intersection_px;
-      row["false_positive_px"] = false_positive_px;
-      if (false_positive_px > 0.0) {
-        row["false_positives_within_1px"] = counts[4].item<double>() / false_positive_px;
-        row["false_positives_within_3px"] = counts[5].item<double>() / false_positive_px;
-      }
+    const double false_positive_px = predicted_px - intersection_px;
+    row["false_positive_px"] = false_positive_px;
+    if (false_positive_px > 0.0) {
+      row["false_positives_within_1px"] = counts[4].item<double>() / false_positive_px;
+      row["false_positives_within_3px"] = counts[5].item<double>() / false_positive_px;
     }
     if (!scene_seeds.empty()) {
       const IouInterval interval = sceneBootstrapIou(occlusion_counts, scene_seeds, frames);

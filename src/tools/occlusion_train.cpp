@@ -91,8 +91,8 @@ const OptionTable<Arguments>& argumentTable() {
   return table;
 }
 
-/// The rules between the flags.
-// `probabilities_given`: --probabilities was on the command line (it has a default).
+/// The rules between the flags; `probabilities_given`: --probabilities was on the command line
+/// (it has a default, so `args` cannot tell).
 void checkArguments(const Arguments& args, bool probabilities_given) {
   if (!args.check_model.empty() && args.data_dirs.empty()) {
     throw CLI::ValidationError("--check needs --data");

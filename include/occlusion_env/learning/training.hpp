@@ -229,11 +229,12 @@ std::map<std::string, std::vector<int64_t>> framesByCondition(
 /// evaluate()'s per-frame figures by what the frames were seen under (`conditions`, one per
 /// frame, as loadCheckFrames gives them): a row per condition, in name order, with frames,
 /// val_iou, labelled_px, predicted_px, precision and recall (from `occlusion_counts`; precision
-/// and recall 1 where nothing is predicted or labelled), with counts of kOcclusionCounts columns
-/// false_positive_px and the shares of them within 1 and within 3 px of the label
-/// (false_positives_within_1px, _within_3px: whether false alarms fatten the labelled occlusion
-/// or stand apart from it; absent where there is no false positive), and mean_escape_deg (of
-/// `escape_errors_deg`' labelled frames; absent where none is labelled).
+/// and recall 1 where nothing is predicted or labelled), false_positive_px and the shares of them
+/// within 1 and within 3 px of the label (false_positives_within_1px, _within_3px: whether false
+/// alarms fatten the labelled occlusion or stand apart from it; absent where there is no false
+/// positive), and mean_escape_deg (of `escape_errors_deg`' labelled frames; absent where none is
+/// labelled). InvalidArgumentError unless `occlusion_counts` has occlusionCounts()'
+/// kOcclusionCounts columns.
 /// With `scene_seeds` (one per frame), each row also has its scenes and val_iou_95
 /// (sceneBootstrapIou's interval).
 nlohmann::json figuresByCondition(const std::vector<std::string>& conditions,
@@ -249,10 +250,9 @@ struct IouInterval {
 
 /// The 95 % interval of the pooled IoU (sum of intersections / sum of unions) of `frames` (rows
 /// of `occlusion_counts`, as evaluate() gives them: columns 0 and 1 are read), by a percentile
-/// bootstrap over
-/// scenes: the scenes (`scene_seeds`, one per row) drawn again with replacement `draws` times,
-/// each with all its frames, since views of one scene err alike. Deterministic for a `seed`.
-/// Frames of one seed in two datasets count as one scene: the same objects, placed alike.
+/// bootstrap over scenes: the scenes (`scene_seeds`, one per row) drawn again with replacement
+/// `draws` times, each with all its frames, since views of one scene err alike. Deterministic for a
+/// `seed`. Frames of one seed in two datasets count as one scene: the same objects, placed alike.
 IouInterval sceneBootstrapIou(const torch::Tensor& occlusion_counts,
                               const std::vector<std::uint64_t>& scene_seeds,
                               const std::vector<int64_t>& frames, int draws = 2000,
