@@ -740,6 +740,9 @@ TEST(LearningTest, OcclusionCountsSortFalsePositivesByTheirDistanceToTheLabel) {
   EXPECT_EQ(rows[0]["false_positive_px"].get<double>(), 4.0);
   EXPECT_DOUBLE_EQ(rows[0]["false_positives_within_1px"].get<double>(), 0.25);
   EXPECT_DOUBLE_EQ(rows[0]["false_positives_within_3px"].get<double>(), 0.5);
+  // Counts without the false alarms' columns (an older layout) are refused, not misread.
+  EXPECT_THROW(figuresByCondition({"a", "a"}, counts.slice(1, 0, 4), torch::full({2}, 0.0)),
+               InvalidArgumentError);
 }
 
 // The IoU's interval draws scenes, not frames: frames of one scene move together.
