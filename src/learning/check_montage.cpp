@@ -51,8 +51,8 @@ std::vector<std::pair<std::string, std::vector<int64_t>>> montageFrames(
 
 cv::Mat overlayTile(const torch::Tensor& input, const torch::Tensor& label,
                     const torch::Tensor& estimate, int tile_px) {
-  if (input.dim() != 3 || input.size(0) != 4)
-    throw InvalidArgumentError("overlayTile: input must be [4, S, S]");
+  if (input.dim() != 3 || input.size(0) < 4)
+    throw InvalidArgumentError("overlayTile: input must be [4 or 5, S, S]");
   std::vector<cv::Mat> bgr = {toByteImage(unitChannel(input, 2)),
                               toByteImage(unitChannel(input, 1)),
                               toByteImage(unitChannel(input, 0))};
@@ -77,8 +77,8 @@ cv::Mat overlayTile(const torch::Tensor& input, const torch::Tensor& label,
 }
 
 cv::Mat depthTile(const torch::Tensor& input, int tile_px) {
-  if (input.dim() != 3 || input.size(0) != 4)
-    throw InvalidArgumentError("depthTile: input must be [4, S, S]");
+  if (input.dim() != 3 || input.size(0) < 4)
+    throw InvalidArgumentError("depthTile: input must be [4 or 5, S, S]");
   const cv::Mat grey = toByteImage(1.0 - unitChannel(input, 3));  // far (1) -> black
   cv::Mat bgr, tile;
   cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);

@@ -33,7 +33,7 @@ NetworkDirectionAgent::NetworkDirectionAgent(std::shared_ptr<LoadedModel> model,
   if (!model_ || !model_->network) throw InvalidArgumentError("network agent: no model");
   encoder_ = std::make_unique<InferenceEncoder>(*model_->network);
   input_format_ = model_->network->config().inputFormat();
-  input_ = torch::empty({1, 4, input_format_.size, input_format_.size});
+  input_ = torch::empty({1, input_format_.channels(), input_format_.size, input_format_.size});
   const int bins = model_->network->config().escape_bins;
   if (bins > 0) bin_angles_ = escapeBinAngles(bins).view({1, bins});
 }

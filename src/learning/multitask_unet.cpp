@@ -73,6 +73,12 @@ const OptionTable<NetworkConfig>& networkConfigTable() {
                           "the void); 0 = the view as view_crop says (network_input.hpp)")
                    .unit("rad")
                    .range(0.0, 3.0))
+          .add("depth_validity", &NetworkConfig::depth_validity,
+               OptionSpec("whether the input shows where depth was read: none = RGB and depth; "
+                          "channel = a fifth channel with each network pixel's share of depth "
+                          "readings, so that a filled input still shows a sensor's lost edge "
+                          "bands (network_input.hpp)")
+                   .choices({"none", "channel"}))
           .add("base_channels", &NetworkConfig::base_channels,
                OptionSpec("channels of the first stage").range(1, 64).flag("--base"))
           .add("levels", &NetworkConfig::levels,
@@ -101,6 +107,7 @@ InputFormat NetworkConfig::inputFormat() const {
                      bounding_surfaces == "cleared", depth_reference == "radius"};
   format.view_crop = view_crop;
   format.view_field_of_view = view_field_of_view;
+  format.valid_fraction_channel = depth_validity == "channel";
   return format;
 }
 
@@ -113,14 +120,16 @@ nlohmann::json NetworkConfig::toJson() const {
   if (depth_reference == "metres") json.erase("depth_reference");
   if (view_crop == 1.0) json.erase("view_crop");
   if (view_field_of_view == 0.0) json.erase("view_field_of_view");
+  if (depth_validity == "none") json.erase("depth_validity");
   return json;
 }
 
 NetworkConfig NetworkConfig::fromJson(const nlohmann::json& json) {
   for (const std::string& key : networkConfigTable().keys()) {
-    // "far", 0, "kept", "metres", 1 and 0 when absent: recorded before they existed.
+    // "far", 0, "kept", "metres", 1, 0 and "none" when absent: recorded before they existed.
     if (key == "depth_gaps" || key == "escape_bins" || key == "bounding_surfaces" ||
-        key == "depth_reference" || key == "view_crop" || key == "view_field_of_view") {
+        key == "depth_reference" || key == "view_crop" || key == "view_field_of_view" ||
+        key == "depth_validity") {
       continue;
     }
     if (!json.contains(key)) throw InvalidArgumentError("network: no " + quoted(key));
@@ -146,7 +155,8 @@ torch::Tensor ConvUnitsImpl::forward(torch::Tensor x) {
 MultiTaskUNetImpl::MultiTaskUNetImpl(const NetworkConfig& config) : config_(config) {
   config_.validate();
   const int base = config_.base_channels;
-  stem_ = register_module("stem", nn::Conv2d(nn::Conv2dOptions(4, base, 3).padding(1)));
+  stem_ = register_module(
+      "stem", nn::Conv2d(nn::Conv2dOptions(config_.inputFormat().channels(), base, 3).padding(1)));
   for (int level = 0; level < config_.levels; ++level) {
     const int channels = base << level;
     encoder_units_->push_back(ConvUnits(channels, config_));

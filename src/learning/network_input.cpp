@@ -132,6 +132,15 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   } else {
     writeDepthFar(depth, size, scale, scratch, out + 3 * plane);
   }
+  if (!format.valid_fraction_channel) return;
+  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
+  float* valid_out = out + 4 * plane;
+  for (int row = 0; row < size; ++row) {
+    const float* fractions = scratch.valid_small.ptr<float>(row);
+    for (int col = 0; col < size; ++col) {
+      valid_out[row * size + col] = (fractions[col] - 0.5f) / 0.25f;
+    }
+  }
 }
 
 // The intrinsics of the network's size x size grid over an image of `image_size` seen with
@@ -281,16 +290,20 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;
   const int size = format.size;
-  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
+  if (format.depth_gaps != DepthGaps::kFilled && !format.valid_fraction_channel) {
+    sumValidDepth(depth, size, scratch);  // (writeImages summed them for either)
+  }
   if (!scratch.surfaces) {
     scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
   }
   // Searched at the depth the network reads (relative to the radius if the model's is), so that
   // the tolerances are those of the scene at 4 m whatever its scale.
   findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch, format.depthScale());
-  // The void: black, far; on a bounding surface, or where no depth was read at all.
+  // The void: black, far, nothing read; on a bounding surface, or where no depth was read at
+  // all.
   const float black = (0.0f - 0.5f) / 0.25f;
   const float far = normalisedDepth(kFar);
+  const float none_read = (0.0f - 0.5f) / 0.25f;
   const std::size_t plane = static_cast<std::size_t>(size) * size;
   for (int row = 0; row < size; ++row) {
     const std::uint8_t* surface = scratch.on_surface.ptr<std::uint8_t>(row);
@@ -300,6 +313,7 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
       out[i] = out[plane + i] = out[2 * plane + i] = black;
       out[3 * plane + i] = far;
+      if (format.valid_fraction_channel) out[4 * plane + i] = none_read;
     }
   }
 }

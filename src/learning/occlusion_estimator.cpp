@@ -17,7 +17,7 @@ OcclusionEstimator::OcclusionEstimator(std::shared_ptr<LoadedModel> model,
   logit_threshold_ = occlusionLogit(probability_threshold);
   format_ = model_->network->config().inputFormat().atRadius(kWorkingRadiusM);
   const int size = model_->network->config().input_size;
-  input_ = torch::empty({1, 4, size, size});
+  input_ = torch::empty({1, format_.channels(), size, size});
   small_mask_.create(size, size, CV_8UC1);
   // A model that clears floors and walls from its input has found them there (with the input's
   // options, clearedInputSurfaceOptions()); the estimate's clearing reuses what it found.

@@ -268,7 +268,7 @@ PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
   }
   encoder_ = std::make_unique<InferenceEncoder>(*policy_->network->backbone());
   input_format_ = policy_->network->backbone()->config().inputFormat();
-  input_ = torch::empty({1, 4, input_format_.size, input_format_.size});
+  input_ = torch::empty({1, input_format_.channels(), input_format_.size, input_format_.size});
   rig_ = torch::zeros({1, kRigInputs});
 }
 

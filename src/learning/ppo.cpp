@@ -226,9 +226,9 @@ nlohmann::json resumeKey(const PpoOptions& options) {
 // Everything one update's rollout keeps, [T * N] rows in time-major order (row = t * N + i).
 struct Rollout {
   torch::Tensor features, inputs, rig, actions, log_probs, values, rewards, dones;
-  void allocate(int rows, int feature_size, int input_size, bool keep_inputs) {
+  void allocate(int rows, int feature_size, const InputFormat& input, bool keep_inputs) {
     features = torch::zeros({rows, feature_size});
-    if (keep_inputs) inputs = torch::zeros({rows, 4, input_size, input_size});
+    if (keep_inputs) inputs = torch::zeros({rows, input.channels(), input.size, input.size});
     rig = torch::zeros({rows, kRigInputs});
     actions = torch::zeros({rows, 2});
     log_probs = torch::zeros({rows});
@@ -278,7 +278,8 @@ class PpoTrainer {
       frozen_encoder_ = std::make_unique<InferenceEncoder>(*policy_->backbone());
     }
 
-    inputs_ = torch::zeros({count_, 4, input_format_.size, input_format_.size});
+    inputs_ =
+        torch::zeros({count_, input_format_.channels(), input_format_.size, input_format_.size});
     rig_ = torch::zeros({count_, kRigInputs});
     last_moves_.assign(count_, Action{});
     scratch_.resize(count_);
@@ -297,7 +298,7 @@ class PpoTrainer {
     const int steps_per_env = (options_.steps_per_update + count_ - 1) / count_;
     const int feature_size = policy_->backbone()->config().bottleneckChannels();
     Rollout rollout;
-    rollout.allocate(steps_per_env * count_, feature_size, input_format_.size, options_.fine_tune);
+    rollout.allocate(steps_per_env * count_, feature_size, input_format_, options_.fine_tune);
     for (int i = 0; i < count_; ++i) environments_->start(i, resetRequest(i));
     waitFor({0, count_});
     encodeInto({0, count_});
@@ -616,7 +617,8 @@ class PpoTrainer {
 
   // On environment i's thread: its observation into batch row i.
   void observe(int i, const StepResult& result) {
-    const std::size_t plane = 4 * static_cast<std::size_t>(input_format_.size) * input_format_.size;
+    const std::size_t plane = static_cast<std::size_t>(input_format_.channels()) *
+                              input_format_.size * input_format_.size;
     writeNetworkInput(result.observation->rgb, result.observation->depth, result.info.intrinsics,
                       input_format_.atRadius(cameraRadius(result.info.world_from_optical)),
                       scratch_[i], inputs_.data_ptr<float>() + i * plane);

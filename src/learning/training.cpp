@@ -44,9 +44,10 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double kSmoothL1Beta = 0.01;
 
-Samples emptySamples(int64_t n, int size) {
+Samples emptySamples(int64_t n, const InputFormat& format) {
+  const int size = format.size;
   Samples samples;
-  samples.inputs = torch::empty({n, 4, size, size}, torch::kHalf);
+  samples.inputs = torch::empty({n, format.channels(), size, size}, torch::kHalf);
   samples.masks = torch::empty({n, 1, size, size}, torch::kUInt8);
   samples.gradient = torch::zeros({n, 2});
   samples.gradient_valid = torch::zeros({n});
@@ -72,7 +73,7 @@ void fillSamples(const dataset::BopDataset& data, const std::vector<const datase
   const int size = format.size;
   const int64_t n = static_cast<int64_t>(frames.size());
   InputScratch scratch;
-  const torch::Tensor input = torch::empty({4, size, size});
+  const torch::Tensor input = torch::empty({format.channels(), size, size});
   cv::Mat mask_small, mask_padded;
   for (int64_t k = 0; k < n; ++k) {
     const int64_t i = first + k;
@@ -130,7 +131,7 @@ void fillNegatives(const std::vector<std::unique_ptr<dataset::BopDataset>>& data
   std::mt19937_64 random(seed * 7919ull + 17ull);
   std::uniform_int_distribution<std::size_t> pick(0, std::max<std::size_t>(1, frames.size()) - 1);
   InputScratch scratch;
-  const torch::Tensor input = torch::empty({4, format.size, format.size});
+  const torch::Tensor input = torch::empty({format.channels(), format.size, format.size});
   // [px] bare surfaces are drawn at the first dataset's frame size (frames are square); an object
   // alone covers at least 1 % of such a frame, enough to show what it looks like alone.
   const int surface_px = datasets.front()->manifest().at("options").at("size").get<int>();
@@ -221,7 +222,7 @@ void augment(Batch& batch, double shift) {
   rgb = rgb * brightness;
   const torch::Tensor mean = rgb.mean({1, 2, 3}, true);
   rgb = ((rgb - mean) * contrast + mean).clamp(0.0, 1.0);
-  batch.inputs = torch::cat({(rgb - 0.5) / 0.25, batch.inputs.slice(1, 3, 4)}, 1);
+  batch.inputs = torch::cat({(rgb - 0.5) / 0.25, batch.inputs.slice(1, 3)}, 1);  // depth (valid)
 
   const torch::Tensor flip = torch::rand({n}) < 0.5;
   const torch::Tensor image_flip = flip.view({n, 1, 1, 1});
@@ -333,8 +334,8 @@ TrainingData loadTrainingData(const std::vector<std::string>& dirs, const InputF
   out.extra_dataset_dirs.assign(dirs.begin() + 1, dirs.end());
   const auto negative_count =
       static_cast<int64_t>(std::llround(negatives * static_cast<double>(train_count)));
-  out.train = emptySamples(train_count + negative_count, format.size);
-  out.validation = emptySamples(validation_count, format.size);
+  out.train = emptySamples(train_count + negative_count, format);
+  out.validation = emptySamples(validation_count, format);
   int64_t train_row = 0, validation_row = 0;
   for (std::size_t d = 0; d < dirs.size(); ++d) {
     fillSamples(*datasets[d], train[d], format, out.train, train_row, mask_coverage);
@@ -377,7 +378,7 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
     count += static_cast<int64_t>(datasets.back()->frames().size());
   }
   if (count == 0) throw InvalidArgumentError("no frames in the dataset(s) from " + dirs.front());
-  Samples samples = emptySamples(count, format.size);
+  Samples samples = emptySamples(count, format);
   int64_t row = 0;
   for (const auto& data : datasets) {
     std::vector<const dataset::Frame*> frames;
@@ -403,6 +404,7 @@ void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
   torch::Tensor moved_inputs = torch::empty_like(inputs);
   moved_inputs.slice(1, 0, 3).fill_(-2.0);  // black: (0 - 0.5) / 0.25
   moved_inputs.slice(1, 3, 4).fill_(2.0);   // no depth, as far: (1 - 0.5) / 0.25
+  moved_inputs.slice(1, 4).fill_(-2.0);     // (a valid-fraction channel) nothing read
   torch::Tensor moved_masks = torch::zeros_like(masks);
   using torch::indexing::Slice;
   const auto target = [size](int64_t offset) {

@@ -1109,6 +1109,80 @@ TEST(LearningTest, FilledDepthGapsLookLikeTheSurfaceAroundThem) {
   for (int i = 0; i < 3 * 32 * 32; ++i) ASSERT_EQ(filled[i], far[i]) << "colour as before";
 }
 
+// depth_validity: channel: a fifth channel holds each network pixel's share of depth readings,
+// so that a filled input still shows where a sensor lost them; the first four channels are
+// those of the input without it, in every kind of gap and when floors and walls are cleared;
+// the network takes five channels and trains on them, augmented and shifted.
+TEST(LearningTest, AValidFractionChannelShowsWhereDepthWasRead) {
+  const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 90, 90));
+  cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(std::nanf("")));  // the void...
+  depth(cv::Rect(16, 16, 32, 32)).setTo(2.0f);                 // ...a box 2 m away...
+  depth(cv::Rect(20, 20, 1, 2)).setTo(std::nanf(""));          // ...half a network pixel lost
+  const std::size_t plane = 32 * 32;
+  InputScratch scratch;
+  for (const DepthGaps gaps : {DepthGaps::kFar, DepthGaps::kFilled}) {
+    InputFormat with_channel(32, gaps);
+    with_channel.valid_fraction_channel = true;
+    ASSERT_EQ(with_channel.channels(), 5);
+    std::vector<float> four(4 * plane), five(5 * plane);
+    writeNetworkInput(rgb, depth, InputFormat(32, gaps), scratch, four.data());
+    writeNetworkInput(rgb, depth, with_channel, scratch, five.data());
+    for (std::size_t i = 0; i < 4 * plane; ++i) ASSERT_EQ(five[i], four[i]) << i;
+    const auto valid = [&five, plane](int row, int col) { return five[4 * plane + row * 32 + col]; };
+    EXPECT_FLOAT_EQ(valid(2, 2), -2.0f) << "the void: nothing read";
+    EXPECT_FLOAT_EQ(valid(12, 12), 2.0f) << "the box: all read";
+    EXPECT_FLOAT_EQ(valid(10, 10), (0.5f - 0.5f) / 0.25f) << "half lost";
+  }
+  // Cleared: a wall behind the box enters as the void, with nothing read.
+  cv::Mat room(128, 128, CV_32FC1, cv::Scalar(2.0f));
+  room(cv::Rect(32, 32, 64, 64)).setTo(1.2f);
+  const cv::Mat grey(128, 128, CV_8UC3, cv::Scalar(120, 120, 120));
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(128, 128, M_PI / 3.0);
+  InputFormat cleared(32, DepthGaps::kFilled, true);
+  cleared.valid_fraction_channel = true;
+  std::vector<float> four(4 * plane), five(5 * plane);
+  writeNetworkInput(grey, room, intrinsics, InputFormat(32, DepthGaps::kFilled, true), scratch,
+                    four.data());
+  writeNetworkInput(grey, room, intrinsics, cleared, scratch, five.data());
+  for (std::size_t i = 0; i < 4 * plane; ++i) ASSERT_EQ(five[i], four[i]) << i;
+  EXPECT_FLOAT_EQ(five[4 * plane + 2 * 32 + 2], -2.0f) << "the wall, cleared";
+  EXPECT_FLOAT_EQ(five[4 * plane + 16 * 32 + 16], 2.0f) << "the box, read";
+
+  NetworkConfig config;
+  config.input_size = 32;
+  EXPECT_FALSE(config.toJson().contains("depth_validity")) << "older models' identity kept";
+  EXPECT_EQ(config.inputFormat().channels(), 4);
+  config.depth_validity = "channel";
+  EXPECT_EQ(NetworkConfig::fromJson(config.toJson()).inputFormat().channels(), 5);
+  MultiTaskUNet network(config);
+  network->eval();
+  EXPECT_EQ(network->forward(torch::zeros({2, 5, 32, 32})).occlusion_logits.sizes(),
+            torch::IntArrayRef({2, 1, 32, 32}));
+  EXPECT_ANY_THROW(network->forward(torch::zeros({2, 4, 32, 32}))) << "five channels, not four";
+  config.depth_validity = "mask";
+  EXPECT_THROW(config.validate(), InvalidArgumentError);
+
+  // Trained on a dataset's frames with augmentation and shifts: the samples hold five channels,
+  // and a loaded model estimates through the same format.
+  const fs::path data_dir = temporaryDir("occlusion_env_learning_valid_channel");
+  dataset::generateDataset(data_dir.string(), tinyDataset(2, 4, 0.5));
+  TrainingOptions options = tinyTraining(1);
+  options.batch_size = 2;
+  options.network.depth_gaps = "filled";
+  options.network.depth_validity = "channel";
+  options.augment = true;
+  options.shift = 0.25;
+  const TrainingData data = loadTrainingData(data_dir.string(), options.network.inputFormat());
+  ASSERT_EQ(data.train.inputs.size(1), 5);
+  const fs::path run_dir = temporaryDir("occlusion_env_learning_valid_channel_run");
+  const auto history = train(data, options, run_dir.string(), {});
+  ASSERT_EQ(history.size(), 1u);
+  EXPECT_TRUE(std::isfinite(history.back().train_loss));
+  LoadedModel model = loadModel((run_dir / "best.pt").string());
+  EXPECT_EQ(model.network->config().depth_validity, "channel");
+  for (const fs::path& dir : {data_dir, run_dir}) fs::remove_all(dir);
+}
+
 // depth_reference: radius: a scene scaled with its sphere (everything, the camera's radius too,
 // times s) enters as the unscaled scene read in metres; the void stays far; the format needs the
 // radius, and a manifest records the field only when it is not metres.
@@ -1630,6 +1704,20 @@ TEST(LearningTest, ShiftedFramesMoveWithTheirMasks) {
   const torch::Tensor before = inputs.clone();
   shiftFrames(inputs, masks, 0.0);
   EXPECT_TRUE(torch::equal(before, inputs));
+
+  // A fifth channel (the valid fraction) moves with the rest; its uncovered border read nothing.
+  torch::Tensor five = torch::zeros({n, 5, size, size});
+  torch::Tensor five_masks = torch::zeros({n, 1, size, size});
+  five.index_put_({torch::indexing::Slice(), torch::indexing::Slice(), 8, 8}, 1.0);
+  five_masks.index_put_({torch::indexing::Slice(), 0, 8, 8}, 1.0);
+  shiftFrames(five, five_masks, 0.25);
+  for (int64_t i = 0; i < n; ++i) {
+    const torch::Tensor at = five_masks[i][0].nonzero();
+    ASSERT_EQ(at.size(0), 1);
+    const int64_t y = at[0][0].item<int64_t>(), x = at[0][1].item<int64_t>();
+    EXPECT_EQ(five[i][4][y][x].item<float>(), 1.0f);
+    if (x > 8) EXPECT_EQ(five[i][4][0][0].item<float>(), -2.0f);
+  }
 }
 
 TEST(LearningTest, OcclusionEstimatedOnAWallIsClearedAndOnAnObjectInFrontOfItKept) {

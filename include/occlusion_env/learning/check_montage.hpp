@@ -24,7 +24,7 @@ namespace learning {
 std::vector<std::pair<std::string, std::vector<int64_t>>> montageFrames(
     const std::vector<std::string>& conditions, int per_condition);
 
-/// One frame's input (`input` [4, S, S] float, network_input.hpp) with `label` and `estimate`
+/// One frame's input (`input` [4 or 5, S, S] float, network_input.hpp) with `label` and `estimate`
 /// ([S, S], 0 / 1) over its RGB, as a BGR 8-bit tile of `tile_px` x `tile_px` (nearest
 /// neighbour): label only green, estimate only red, both yellow, each blended half with the RGB;
 /// the rest the RGB as the network sees it.

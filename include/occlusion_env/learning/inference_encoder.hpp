@@ -6,7 +6,7 @@
 // MultiTaskUNetImpl::encode() in eval mode, to float rounding (about 1e-6; tested).
 //
 //   InferenceEncoder encoder(*network);       // after loading; a snapshot of the weights
-//   torch::Tensor features = encoder.encode(input);   // [B, 4, S, S] -> [B, C], no gradient
+//   torch::Tensor features = encoder.encode(input);   // [B, C, S, S] -> [B, C], no gradient
 //
 // A snapshot: make a new one after the network's weights change (an optimiser step, a load).
 // Without oneDNN in libtorch it keeps the network and calls its encode() instead.
@@ -27,7 +27,7 @@ class InferenceEncoder {
   /// outlive the encoder only where oneDNN is missing (then encode() calls it).
   explicit InferenceEncoder(MultiTaskUNetImpl& network);
 
-  /// The pooled bottleneck of `input` ([B, 4, S, S], float, contiguous): [B, C], without gradient.
+  /// The pooled bottleneck of `input` ([B, C, S, S], float, contiguous): [B, C], without gradient.
   /// Safe to call from several threads at once.
   torch::Tensor encode(const torch::Tensor& input) const;
 

@@ -43,6 +43,8 @@ struct NetworkConfig {
   int escape_bins = 0;              // directions scored by the escape-bins head; 0 = no such head
   double view_crop = 1.0;           // the centred fraction of the view's width and height it sees
   double view_field_of_view = 0.0;  // [rad] the angle of view it sees; 0: as view_crop says
+  // none | channel: whether each pixel's share of depth readings enters as a fifth channel
+  std::string depth_validity = "none";
 
   bool residual() const { return variant != "unet"; }
   bool separable() const { return variant == "sr_unet" || variant == "sar_unet"; }
@@ -56,9 +58,9 @@ struct NetworkConfig {
   /// Every field by its table name (the "network" of model manifests).
   nlohmann::json toJson() const;
   /// Refuses unknown names and a missing field (every manifest states the whole network), but
-  /// depth_gaps, escape_bins, bounding_surfaces, depth_reference, view_crop and
-  /// view_field_of_view, which models recorded before they existed lack: "far", 0, "kept",
-  /// "metres", 1 and 0.
+  /// depth_gaps, escape_bins, bounding_surfaces, depth_reference, view_crop,
+  /// view_field_of_view and depth_validity, which models recorded before they existed lack:
+  /// "far", 0, "kept", "metres", 1, 0 and "none".
   static NetworkConfig fromJson(const nlohmann::json& json);
 };
 
@@ -91,7 +93,7 @@ TORCH_MODULE(ConvUnits);
 class MultiTaskUNetImpl : public torch::nn::Module {
  public:
   explicit MultiTaskUNetImpl(const NetworkConfig& config);
-  /// `input`: [B, 4, S, S] (learning/network_input.hpp).
+  /// `input`: [B, C, S, S], C = config().inputFormat().channels() (learning/network_input.hpp).
   NetworkOutput forward(torch::Tensor input);
   /// The pooled bottleneck only (the encoder), [B, C].
   torch::Tensor encode(torch::Tensor input);

@@ -1,8 +1,11 @@
 // What the networks see, written down once: an RGB-D observation resized to the network's
-// resolution and normalised, as a 4 x S x S float tensor.
+// resolution and normalised, as a C x S x S float tensor (C = InputFormat::channels(): 4 or 5).
 //
 //   channels 0-2: RGB / 255, then (x - 0.5) / 0.25
 //   channel 3:    depth [m] clamped to [0, kFarDepthM] / kFarDepthM, then (x - 0.5) / 0.25
+//   channel 4:    only with a model's depth_validity: channel: the fraction of the network
+//                 pixel's area with a depth reading (0-1), then (x - 0.5) / 0.25; so that a
+//                 filled input still shows where a sensor lost its readings (an edge band)
 // Resizing: area averaging (cv::INTER_AREA). Missing depth (NaN: nothing hit, or a sensor's
 // dropout) enters as the model's DepthGaps says:
 //   far:    every missing pixel is far (kFarDepthM) before averaging, so a pixel at an object's
@@ -64,8 +67,11 @@ struct InputFormat {
   bool depth_per_radius;         // depth enters relative to the camera's radius (radius_m)
   double radius_m = 0.0;         // [m] the camera's distance from the sphere's centre; 0: unknown
   double view_crop = 1.0;        // the centred fraction of the view's width and height it sees
-  double view_field_of_view = 0.0;  // [rad] the angle of view it sees; 0: as view_crop says
+  double view_field_of_view = 0.0;      // [rad] the angle of view it sees; 0: as view_crop says
+  bool valid_fraction_channel = false;  // a fifth channel: each pixel's share of depth readings
 
+  /// The input's channels: RGB and depth, and the valid fraction when it has that channel.
+  int channels() const { return valid_fraction_channel ? 5 : 4; }
   /// Whether the network sees a part of the view only (view_crop or view_field_of_view).
   bool cropsView() const { return view_crop != 1.0 || view_field_of_view > 0.0; }
 
@@ -134,7 +140,7 @@ void findGridBoundingSurfaces(const CameraIntrinsics& intrinsics, const cv::Size
                               double depth_scale = 1.0);
 
 /// Writes the normalised input of `rgb` (CV_8UC3) and `depth` (CV_32FC1 [m], NaN = nothing) in
-/// `format` into `out` (4 * size * size floats, channel-major), of the view's crop
+/// `format` into `out` (format.channels() * size * size floats, channel-major), of the view's crop
 /// (viewCropRect) when the format has one. Throws InvalidArgumentError on
 /// wrong types or sizes, and for a format that clears bounding surfaces or has a
 /// view_field_of_view (they need intrinsics).

@@ -78,7 +78,7 @@ class PolicyNetworkImpl : public torch::nn::Module {
  public:
   PolicyNetworkImpl(const NetworkConfig& backbone, const PolicyConfig& config);
 
-  /// The backbone's pooled encoder features of `input` [B, 4, S, S] -> [B, C].
+  /// The backbone's pooled encoder features of `input` [B, C, S, S] -> [B, C].
   torch::Tensor features(const torch::Tensor& input);
   /// Mean action [B, 2] = (d_azimuth, d_elevation): the Gaussian's mean, or the directions'
   /// circular mean (what the agent does).

@@ -28,7 +28,7 @@ struct Samples {
   // Held compactly, so that 100,000 frames fit in memory at 96 px: the inputs as 16-bit floats
   // (rounding the network input by at most 1/16 of a grey level), the masks as bytes; a batch is
   // made of 32-bit floats.
-  torch::Tensor inputs;          // [N, 4, S, S] half (network_input.hpp)
+  torch::Tensor inputs;          // [N, C, S, S] half, C = 4 or 5 (network_input.hpp)
   torch::Tensor masks;           // [N, 1, S, S] uint8 0 / 1
   torch::Tensor gradient;        // [N, 2] (sin, cos) of the descent direction
   torch::Tensor gradient_valid;  // [N] 0 / 1
@@ -134,7 +134,7 @@ struct TrainingOptions {
   nlohmann::json toJson() const;
 };
 
-/// Moves each frame of `inputs` (N x 4 x S x S, learning/network_input.hpp) and its mask (N x 1 x S
+/// Moves each frame of `inputs` (N x C x S x S, learning/network_input.hpp) and its mask (N x 1 x S
 /// x S) by whole pixels drawn uniformly from [-shift * S, shift * S] in x and y (torch's
 /// generator); the uncovered border becomes the void's input (black, no depth) and mask 0.
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift);
