@@ -21,8 +21,13 @@ InvalidArgumentError noIntrinsicsForTheAngleOfView() {
       "the camera's intrinsics; none were given");
 }
 
+// A value in [0, 1] as every channel enters the network.
+float normalised(float unit) {
+  return (unit - 0.5f) / 0.25f;
+}
+
 float normalisedDepth(float metres) {
-  return (metres / kFar - 0.5f) / 0.25f;
+  return normalised(metres / kFar);
 }
 
 // `source` resized to `target` by area averaging, or `source` itself at that size already.
@@ -123,7 +128,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
     const cv::Vec3b* pixels = scratch.rgb_small.ptr<cv::Vec3b>(row);
     for (int col = 0; col < size; ++col) {
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
-      for (int c = 0; c < 3; ++c) out[c * plane + i] = (pixels[col][c] / 255.0f - 0.5f) / 0.25f;
+      for (int c = 0; c < 3; ++c) out[c * plane + i] = normalised(pixels[col][c] / 255.0f);
     }
   }
   const float scale = static_cast<float>(format.depthScale());
@@ -137,9 +142,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   float* valid_out = out + 4 * plane;
   for (int row = 0; row < size; ++row) {
     const float* fractions = scratch.valid_small.ptr<float>(row);
-    for (int col = 0; col < size; ++col) {
-      valid_out[row * size + col] = (fractions[col] - 0.5f) / 0.25f;
-    }
+    for (int col = 0; col < size; ++col) valid_out[row * size + col] = normalised(fractions[col]);
   }
 }
 
@@ -290,9 +293,7 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;
   const int size = format.size;
-  if (format.depth_gaps != DepthGaps::kFilled && !format.valid_fraction_channel) {
-    sumValidDepth(depth, size, scratch);  // (writeImages summed them for either)
-  }
+  if (!format.sumsValidDepth()) sumValidDepth(depth, size, scratch);
   if (!scratch.surfaces) {
     scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
   }
@@ -301,9 +302,9 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch, format.depthScale());
   // The void: black, far, nothing read; on a bounding surface, or where no depth was read at
   // all.
-  const float black = (0.0f - 0.5f) / 0.25f;
+  const float black = normalised(0.0f);
   const float far = normalisedDepth(kFar);
-  const float none_read = (0.0f - 0.5f) / 0.25f;
+  const float none_read = normalised(0.0f);
   const std::size_t plane = static_cast<std::size_t>(size) * size;
   for (int row = 0; row < size; ++row) {
     const std::uint8_t* surface = scratch.on_surface.ptr<std::uint8_t>(row);

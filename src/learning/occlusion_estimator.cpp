@@ -37,8 +37,7 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
   const int size = small_mask_.rows;
   // An input that clears them has found this view's surfaces already, with its own options.
   if (!format_.clear_bounding_surfaces) {
-    // The filled input has summed the valid depths already.
-    if (format_.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch_);
+    if (!format_.sumsValidDepth()) sumValidDepth(depth, size, scratch_);
     findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);
   }
   const std::int64_t cleared = clearFoundSurfaces(small_mask_);

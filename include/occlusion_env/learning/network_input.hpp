@@ -72,6 +72,10 @@ struct InputFormat {
 
   /// The input's channels: RGB and depth, and the valid fraction when it has that channel.
   int channels() const { return valid_fraction_channel ? 5 : 4; }
+  /// Whether writeNetworkInput leaves sumValidDepth's sums of the view in its scratch (the
+  /// filled depth and the valid-fraction channel are made from them), so that a caller needing
+  /// them need not sum again.
+  bool sumsValidDepth() const { return depth_gaps == DepthGaps::kFilled || valid_fraction_channel; }
   /// Whether the network sees a part of the view only (view_crop or view_field_of_view).
   bool cropsView() const { return view_crop != 1.0 || view_field_of_view > 0.0; }
 
