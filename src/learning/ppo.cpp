@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/flat_adam.hpp"
 #include "occlusion_env/learning/inference_encoder.hpp"
@@ -870,19 +871,21 @@ class PpoTrainer {
   }
 
   void appendEpisode(const PpoEpisode& e) {
-    std::ofstream out(fs::path(run_dir_) / kEpisodesCsv, std::ios::app);
+    std::ostringstream out;
     out << e.index << ',' << e.env_steps << ',' << e.environment << ',' << e.seed << ',' << e.reward
         << ',' << e.steps << ',' << (e.success ? 1 : 0) << '\n';
+    appendTextFile((fs::path(run_dir_) / kEpisodesCsv).string(), out.str());
   }
 
   void appendUpdate(const PpoUpdate& u) {
-    std::ofstream out(fs::path(run_dir_) / "updates.csv", std::ios::app);
+    std::ostringstream out;
     out << u.update << ',' << u.env_steps << ',' << u.episodes << ',' << u.action_std << ','
         << u.policy_loss << ',' << u.value_loss << ',' << u.entropy << ',' << u.approx_kl << ','
         << u.clip_fraction << ',' << u.explained_variance << ',' << u.epochs_run << ','
         << u.mean_episode_reward << ',' << u.mean_episode_steps << ',' << u.success_rate << ','
         << u.steps_per_second << ',' << u.seconds << ',' << u.environment_seconds << ','
         << u.inference_seconds << ',' << u.optimisation_seconds << '\n';
+    appendTextFile((fs::path(run_dir_) / "updates.csv").string(), out.str());
   }
 
   void checkpoint() {

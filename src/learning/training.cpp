@@ -20,6 +20,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/statistics.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/learning/model_file.hpp"
@@ -244,7 +245,7 @@ void setLearningRate(torch::optim::AdamW& optimizer, double rate) {
 }
 
 void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out << "epoch,learning_rate,train_loss,val_dice_loss,val_pixel_accuracy,val_iou,"
          "val_gradient_mse,val_escape_mse,val_gradient_angle_deg,val_escape_angle_deg,seconds,"
          "images_per_second,val_escape_bins_angle_deg,val_escape_shortest_share,"
@@ -256,6 +257,7 @@ void writeLog(const std::string& path, const std::vector<EpochMetrics>& epochs) 
         << ',' << m.seconds << ',' << m.images_per_second << ',' << m.val_escape_bins_angle_deg
         << ',' << m.val_escape_shortest_share << ',' << m.val_escape_bins_shortest_share << '\n';
   }
+  writeTextFile(path, out.str());
 }
 
 // `path` made absolute and canonical: the same folder by another path (relative, absolute,
@@ -1100,8 +1102,7 @@ void writeCheckpoint(MultiTaskUNet& network, torch::optim::AdamW& optimizer, con
                           {"best_iou", progress.best_iou},
                           {"history", nlohmann::json::array()}};
   for (const EpochMetrics& m : progress.history) state["history"].push_back(m.toJson());
-  std::ofstream(files.state.string() + ".tmp") << state.dump(1);
-  fs::rename(files.state.string() + ".tmp", files.state);
+  replaceTextFile(files.state.string(), state.dump(1));
   writeLog((files.dir / "log.csv").string(), progress.history);
 }
 

@@ -1,7 +1,6 @@
 #include "occlusion_env/report/landscape_report.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -10,6 +9,7 @@
 
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/eval/landscape.hpp"
 
@@ -73,7 +73,7 @@ std::string runLandscape(const EvalOptions& cl, const std::string& scenes_path) 
 
 void writeLandscapeReport(const EvalOptions& options) {
   const std::string markdown = runLandscape(options, options.landscape);
-  std::ofstream(fs::path(options.out) / "landscape.md") << markdown;
+  writeTextFile((fs::path(options.out) / "landscape.md").string(), markdown);
 }
 
 }  // namespace report

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/env/scene_setup.hpp"
 #include "occlusion_env/env/simulated_camera_rig.hpp"
@@ -52,7 +53,7 @@ std::string writeSceneSetSummary(const EvalOptions& cl, const std::vector<Episod
       markdown += "\n![BEST posteriors](" + name + "_best_posteriors.png)\n";
     }
   }
-  std::ofstream(prefix + "summary.md") << markdown;
+  writeTextFile(prefix + "summary.md", markdown);
   runPlots(cl, {"--prefix", name + "_", "--episodes", episodes_csv, "--posterior",
                 prefix + "best_mu_samples.csv", "--comparisons", prefix + "best_pairs.csv"});
   std::cerr << "occlusion_eval: wrote " << prefix << "summary.md\n";
@@ -129,7 +130,7 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
            << plan.bridge.occlusion_threshold_px << " px); truly clear: the simulator's L <= "
            << plan.environment.reward.success_threshold_pixels << " px where the episode ended.\n\n"
            << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);
-  std::ofstream((fs::path(cl.out) / (name + ".md")).string()) << markdown.str();
+  writeTextFile((fs::path(cl.out) / (name + ".md")).string(), markdown.str());
   std::cout << markdown.str();
   return markdown.str() + "\n" + writeSceneSetSummary(cl, records, name, csv_path);
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -14,6 +13,7 @@
 
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/env/scene_set.hpp"
 #include "occlusion_env/render/visualization.hpp"
 
@@ -169,7 +169,7 @@ std::string runStrip(const EvalOptions& cl, const std::string& scenes_path) {
 
 void writeStripReport(const EvalOptions& options) {
   const std::string markdown = runStrip(options, options.strip);
-  std::ofstream(fs::path(options.out) / "strip.md") << markdown;
+  writeTextFile((fs::path(options.out) / "strip.md").string(), markdown);
 }
 
 }  // namespace report

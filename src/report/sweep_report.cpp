@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <utility>
 #include <vector>
 
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/eval/evaluation.hpp"
 #include "occlusion_env/eval/summary.hpp"
 #include "occlusion_env/eval/sweep.hpp"
@@ -217,8 +217,10 @@ std::string runSweep(const EvalOptions& cl, const std::string& preset) {
 
 void writeSweepReport(const EvalOptions& options) {
   const std::string markdown = runSweep(options, options.sweep);
-  std::ofstream(fs::path(options.out) / (sweepSetName(options.sweep, options.sweep_source) + ".md"))
-      << markdown;
+  writeTextFile(
+      (fs::path(options.out) / (sweepSetName(options.sweep, options.sweep_source) + ".md"))
+          .string(),
+      markdown);
 }
 
 }  // namespace report

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -18,6 +17,7 @@
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/common/statistics.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -280,7 +280,7 @@ int checkModel(const std::string& model_path, const std::vector<std::string>& da
   const std::string out =
       out_path.empty() ? std::filesystem::path(model_path).replace_extension(".check.json").string()
                        : out_path;
-  std::ofstream(out) << result.dump(2) << '\n';
+  writeTextFile(out, result.dump(2) + "\n");
   std::cout << std::fixed << std::setprecision(2) << model_path << " on " << frames.size()
             << " frames"
             << (mask_coverage != learning::kPaperMaskCoverage
