@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/text_file.hpp"
 
 namespace occlusion_env {
 namespace learning {
@@ -21,9 +22,7 @@ void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::
   manifest["kind"] = "multitask_unet";
   manifest["network"] = network->config().toJson();
   manifest["file"] = std::filesystem::path(path).filename().string();
-  std::ofstream out(manifestPathFor(path));
-  out << manifest.dump(2) << '\n';
-  if (!out) throw std::runtime_error("cannot write " + manifestPathFor(path));
+  writeTextFile(manifestPathFor(path), manifest.dump(2) + "\n");
 }
 
 nlohmann::json readManifest(const std::string& path) {

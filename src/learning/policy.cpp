@@ -2,10 +2,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
+#include "occlusion_env/common/text_file.hpp"
 #include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/learning/model_file.hpp"
 
@@ -220,9 +220,7 @@ void savePolicy(PolicyNetwork& policy, const std::string& path, const nlohmann::
   manifest["network"] = policy->backbone()->config().toJson();
   manifest["policy"] = policy->config().toJson();
   manifest["file"] = std::filesystem::path(path).filename().string();
-  std::ofstream out(manifestPathFor(path));
-  out << manifest.dump(2) << '\n';
-  if (!out) throw std::runtime_error("cannot write " + manifestPathFor(path));
+  writeTextFile(manifestPathFor(path), manifest.dump(2) + "\n");
 }
 
 LoadedPolicy loadPolicy(const std::string& path) {

@@ -202,9 +202,9 @@ void trimCsv(const fs::path& path, const std::string& header, std::int64_t last)
     }
   }
   in.close();
-  std::ofstream out(path, std::ios::trunc);
-  for (const auto& row : kept) out << row << '\n';
-  if (!out) throw std::runtime_error("cannot write " + path.string());
+  std::string text;
+  for (const auto& row : kept) text += row + '\n';
+  writeTextFile(path.string(), text);
 }
 
 // One row per finished training episode (not the evaluation's EpisodeRecord schema).

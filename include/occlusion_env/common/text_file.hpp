@@ -1,5 +1,5 @@
-// Text files the tools write (results, logs, run state): written whole or not at all, with an error
-// that names the file and the reason, never a result that silently went nowhere.
+// Text files the tools write (results, logs, run state): a file that cannot be written is an error
+// that names it and the reason, never a result that silently went nowhere.
 #pragma once
 
 #include <string>
