@@ -12,7 +12,6 @@
 #include <iomanip>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -106,10 +105,6 @@ std::vector<double> readCodaValues(const fs::path& path) {
   double value = 0.0;
   while (in >> iteration >> value) values.push_back(value);
   return values;
-}
-
-double mean(const std::vector<double>& values) {
-  return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
 }
 
 double sampleStandardDeviation(const std::vector<double>& values, double values_mean) {

@@ -21,6 +21,7 @@
 
 namespace {
 
+using occlusion_env::mean;
 using occlusion_env::median;
 using occlusion_env::OptionSpec;
 using occlusion_env::OptionTable;
@@ -57,12 +58,6 @@ const OptionTable<Arguments>& argumentTable() {
                    .unit("deg")
                    .range(0, 180));
   return table;
-}
-
-double mean(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (const double value : values) sum += value;
-  return values.empty() ? 0.0 : sum / values.size();
 }
 
 /// What the queries cost and answered, for the summary line.

@@ -10,6 +10,12 @@
 namespace occlusion_env {
 namespace {
 
+TEST(StatisticsTest, MeanOfNoValuesIsNaNNotZero) {
+  EXPECT_DOUBLE_EQ(mean({1.0, 2.0, 6.0}), 3.0);
+  EXPECT_DOUBLE_EQ(mean({-2.5}), -2.5);
+  EXPECT_TRUE(std::isnan(mean({})));  // no steps measured is not 0 steps
+}
+
 TEST(StatisticsTest, MedianOfAnOddCountIsTheMiddleOfAnEvenCountTheMeanOfTheTwo) {
   EXPECT_DOUBLE_EQ(median({5.0, 1.0, 3.0}), 3.0);
   EXPECT_DOUBLE_EQ(median({4.0, 1.0, 3.0, 2.0}), 2.5);  // not the upper middle, 3

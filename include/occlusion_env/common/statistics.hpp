@@ -1,10 +1,13 @@
-// Order statistics of samples, for the medians and percentiles the tools, benchmarks and
+// Summary statistics of samples, for the means, medians and percentiles the tools, benchmarks and
 // nodes report: written once so that every "median" in a log or a table means the same.
 #pragma once
 
 #include <vector>
 
 namespace occlusion_env {
+
+/// The arithmetic mean of `values`. NaN if `values` is empty.
+double mean(const std::vector<double>& values);
 
 /// The median of `values`: the middle one, or the mean of the two middle ones if their number is
 /// even. NaN if `values` is empty.
