@@ -57,8 +57,8 @@ void writeDepthFar(const cv::Mat& depth, int size, float scale, InputScratch& sc
   }
 }
 
-// The mean depth of the valid 8-neighbours of (row, col) at the network's size, or far when
-// fewer than kMinValidNeighbours are valid.
+// The mean depth of the valid 8-neighbours of (row, col) at the network's size, or infinity
+// (far at any scale) when fewer than kMinValidNeighbours are valid.
 float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row, int col) {
   int count = 0;
   float sum = 0.0f;
@@ -70,14 +70,14 @@ float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row
       ++count;
     }
   }
-  return count >= kMinValidNeighbours ? sum / count : kFar;
+  return count >= kMinValidNeighbours ? sum / count : std::numeric_limits<float>::infinity();
 }
 
 // DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours. Depth
-// times `scale`, but the void's far stays far.
+// times `scale`, each reading clamped at far first (so a block's mean is the one at 4 m).
 void writeDepthFilled(const cv::Mat& depth, int size, float scale, InputScratch& scratch,
                       float* out) {
-  sumValidDepth(depth, size, scratch);
+  sumValidDepth(depth, size, scratch, kFar / scale);
   for (int row = 0; row < size; ++row) {
     const float* sums = scratch.depth_small.ptr<float>(row);
     const float* fractions = scratch.valid_small.ptr<float>(row);
@@ -85,15 +85,14 @@ void writeDepthFilled(const cv::Mat& depth, int size, float scale, InputScratch&
       const float metres = fractions[col] > 0.0f
                                ? sums[col] / fractions[col]
                                : filledGap(scratch.depth_small, scratch.valid_small, row, col);
-      out[row * size + col] =
-          normalisedDepth(metres < kFar ? std::min(metres * scale, kFar) : kFar);
+      out[row * size + col] = normalisedDepth(std::min(metres * scale, kFar));
     }
   }
 }
 
 }  // namespace
 
-void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch) {
+void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch, float max_depth_m) {
   scratch.depth_filled.create(depth.size(), CV_32FC1);
   scratch.valid.create(depth.size(), CV_32FC1);
   for (int row = 0; row < depth.rows; ++row) {
@@ -103,7 +102,7 @@ void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch) {
     for (int col = 0; col < depth.cols; ++col) {
       const float d = in[col];
       const bool seen = std::isfinite(d) && d > 0.0f;
-      filled[col] = seen ? std::min(d, kFar) : 0.0f;
+      filled[col] = seen ? std::min(d, max_depth_m) : 0.0f;
       valid[col] = seen ? 1.0f : 0.0f;
     }
   }
@@ -138,7 +137,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
     writeDepthFar(depth, size, scale, scratch, out + 3 * plane);
   }
   if (!format.valid_fraction_channel) return;
-  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch);
+  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch, kFar / scale);
   float* valid_out = out + 4 * plane;
   for (int row = 0; row < size; ++row) {
     const float* fractions = scratch.valid_small.ptr<float>(row);
@@ -293,7 +292,9 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;
   const int size = format.size;
-  if (!format.sumsValidDepth()) sumValidDepth(depth, size, scratch);
+  if (!format.sumsValidDepth()) {
+    sumValidDepth(depth, size, scratch, kFar / static_cast<float>(format.depthScale()));
+  }
   if (!scratch.surfaces) {
     scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
   }

@@ -37,7 +37,11 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
   const int size = small_mask_.rows;
   // An input that clears them has found this view's surfaces already, with its own options.
   if (!format_.clear_bounding_surfaces) {
-    if (!format_.sumsValidDepth()) sumValidDepth(depth, size, scratch_);
+    // Searched in metres up to kFarDepthM: the input's sums, when it made them, clamp at the
+    // far of the depth it reads, another depth when that is relative to a radius other than 4 m.
+    if (!format_.sumsValidDepth() || format_.depthScale() != 1.0) {
+      sumValidDepth(depth, size, scratch_);
+    }
     findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);
   }
   const std::int64_t cleared = clearFoundSurfaces(small_mask_);

@@ -1128,7 +1128,9 @@ TEST(LearningTest, AValidFractionChannelShowsWhereDepthWasRead) {
     writeNetworkInput(rgb, depth, InputFormat(32, gaps), scratch, four.data());
     writeNetworkInput(rgb, depth, with_channel, scratch, five.data());
     for (std::size_t i = 0; i < 4 * plane; ++i) ASSERT_EQ(five[i], four[i]) << i;
-    const auto valid = [&five, plane](int row, int col) { return five[4 * plane + row * 32 + col]; };
+    const auto valid = [&five, plane](int row, int col) {
+      return five[4 * plane + row * 32 + col];
+    };
     EXPECT_FLOAT_EQ(valid(2, 2), -2.0f) << "the void: nothing read";
     EXPECT_FLOAT_EQ(valid(12, 12), 2.0f) << "the box: all read";
     EXPECT_FLOAT_EQ(valid(10, 10), (0.5f - 0.5f) / 0.25f) << "half lost";
@@ -1220,6 +1222,34 @@ TEST(LearningTest, DepthRelativeToTheRadiusMakesAScaledSceneTheSameInput) {
   EXPECT_TRUE(NetworkConfig::fromJson(config.toJson()).inputFormat().depth_per_radius);
   config.depth_reference = "feet";
   EXPECT_THROW(config.validate(), InvalidArgumentError);
+}
+
+// The same with a wall beyond the far limit and blocks that see both it and a box: each reading
+// is clamped where the network's depth is far, so the box's edge reads as at 4 m whether the
+// sphere is larger (the wall's readings were clamped at 8 m, too near) or smaller (they counted
+// beyond far into the block's mean). Failed before the clamp followed the radius.
+TEST(LearningTest, DepthBeyondFarRelativeToTheRadiusReadsAsAtFourMetres) {
+  const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 120, 150));
+  cv::Mat depth(64, 64, CV_32FC1, cv::Scalar(10.0f));  // a wall 10 m away...
+  depth(cv::Rect(9, 9, 37, 37)).setTo(3.5f);           // ...a box whose edges split 2 x 2 blocks
+  depth.at<float>(20, 20) = std::nanf("");             // a dropout
+  for (const bool valid_channel : {false, true}) {
+    InputFormat per_radius(32, DepthGaps::kFilled, false, true);
+    per_radius.valid_fraction_channel = valid_channel;
+    const std::size_t count = static_cast<std::size_t>(per_radius.channels()) * 32 * 32;
+    InputScratch scratch;
+    std::vector<float> at_four(count), scaled(count);
+    writeNetworkInput(rgb, depth, per_radius.atRadius(kWorkingRadiusM), scratch, at_four.data());
+    for (const double scale : {0.5, 2.0, 0.15}) {
+      const cv::Mat scaled_depth = depth * scale;
+      writeNetworkInput(rgb, scaled_depth, per_radius.atRadius(kWorkingRadiusM * scale), scratch,
+                        scaled.data());
+      for (std::size_t i = 0; i < count; ++i) {
+        ASSERT_NEAR(scaled[i], at_four[i], 1e-5f)
+            << "element " << i << " at " << scale << " x the radius";
+      }
+    }
+  }
 }
 
 // view_crop: the network sees the view's centred part at its size, as a camera with the

@@ -28,7 +28,8 @@
 //   metres: as the camera reads it;
 //   radius: times kWorkingRadiusM / r, r the camera's distance from the sphere's centre, so that
 //           a scene scaled with its sphere (small objects seen from 1 m) enters as the same
-//           scene at 4 m would; the void's far stays far. Needs r (InputFormat::atRadius).
+//           scene at 4 m would, each reading clamped at far in that depth before a block is
+//           averaged; the void's far stays far. Needs r (InputFormat::atRadius).
 // Crop (a model's view_crop):
 //   1:       the whole view;
 //   c < 1:   the centred c x c of the view's width and height only (viewCropRect), the
@@ -121,10 +122,13 @@ struct InputScratch {
 };
 
 /// The valid depth readings of each network pixel's block: their sum over the block's area
-/// (clamped to kFarDepthM) into scratch.depth_small and their fraction of it into
-/// scratch.valid_small, both size x size; their mean is the one over the other. The filled input
-/// is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already there.
-void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch);
+/// (each reading clamped to `max_depth_m`) into scratch.depth_small and their fraction of it
+/// into scratch.valid_small, both size x size; their mean is the one over the other. The filled
+/// input is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already
+/// there, each reading clamped to kFarDepthM / InputFormat::depthScale(): far in the depth the
+/// network reads, so that a block reads as it would in the same scene at 4 m.
+void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch,
+                   float max_depth_m = static_cast<float>(kFarDepthM));
 
 /// The plane search of a cleared input: the finder's defaults but a tolerance that grows only
 /// 1 mm/m^2 with depth (not 4), so that the feet of an object standing on the floor stay in
