@@ -75,9 +75,9 @@ float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row
 
 // DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours. Depth
 // times `scale`, each reading clamped at far first (so a block's mean is the one at 4 m).
-void writeDepthFilled(const cv::Mat& depth, int size, float scale, InputScratch& scratch,
-                      float* out) {
-  sumValidDepth(depth, size, scratch, kFar / scale);
+void writeDepthFilled(const cv::Mat& depth, int size, float scale, float far_reading_m,
+                      InputScratch& scratch, float* out) {
+  sumValidDepth(depth, size, scratch, far_reading_m);
   for (int row = 0; row < size; ++row) {
     const float* sums = scratch.depth_small.ptr<float>(row);
     const float* fractions = scratch.valid_small.ptr<float>(row);
@@ -132,12 +132,14 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   }
   const float scale = static_cast<float>(format.depthScale());
   if (format.depth_gaps == DepthGaps::kFilled) {
-    writeDepthFilled(depth, size, scale, scratch, out + 3 * plane);
+    writeDepthFilled(depth, size, scale, format.farReadingM(), scratch, out + 3 * plane);
   } else {
     writeDepthFar(depth, size, scale, scratch, out + 3 * plane);
   }
   if (!format.valid_fraction_channel) return;
-  if (format.depth_gaps != DepthGaps::kFilled) sumValidDepth(depth, size, scratch, kFar / scale);
+  if (format.depth_gaps != DepthGaps::kFilled) {
+    sumValidDepth(depth, size, scratch, format.farReadingM());
+  }
   float* valid_out = out + 4 * plane;
   for (int row = 0; row < size; ++row) {
     const float* fractions = scratch.valid_small.ptr<float>(row);
@@ -292,9 +294,7 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   writeImages(rgb, depth, format, scratch, out);
   if (!format.clear_bounding_surfaces) return;
   const int size = format.size;
-  if (!format.sumsValidDepth()) {
-    sumValidDepth(depth, size, scratch, kFar / static_cast<float>(format.depthScale()));
-  }
+  if (!format.sumsValidDepth()) sumValidDepth(depth, size, scratch, format.farReadingM());
   if (!scratch.surfaces) {
     scratch.surfaces = std::make_unique<BoundingSurfaceFinder>(clearedInputSurfaceOptions());
   }

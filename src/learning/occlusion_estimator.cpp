@@ -37,9 +37,9 @@ std::int64_t OcclusionEstimator::clearBoundingSurfaces(const cv::Mat& depth,
   const int size = small_mask_.rows;
   // An input that clears them has found this view's surfaces already, with its own options.
   if (!format_.clear_bounding_surfaces) {
-    // Searched in metres up to kFarDepthM: the input's sums, when it made them, clamp at the
-    // far of the depth it reads, another depth when that is relative to a radius other than 4 m.
-    if (!format_.sumsValidDepth() || format_.depthScale() != 1.0) {
+    // Searched in metres up to kFarDepthM, so summed again where the input's sums clamp
+    // elsewhere (depth relative to a radius other than 4 m).
+    if (!format_.sumsValidDepth() || format_.farReadingM() != static_cast<float>(kFarDepthM)) {
       sumValidDepth(depth, size, scratch_);
     }
     findGridBoundingSurfaces(intrinsics, image_size, *surfaces_, scratch_);

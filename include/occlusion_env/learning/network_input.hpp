@@ -85,6 +85,11 @@ struct InputFormat {
   /// What depth [m] is multiplied by before it is normalised: 1, or kWorkingRadiusM / radius_m
   /// when depth_per_radius. Throws InvalidArgumentError when that needs a radius and has none.
   double depthScale() const;
+  /// The reading [m] the network reads as far, kFarDepthM / depthScale(): each reading is clamped
+  /// there before a network pixel's block is averaged, so a block reads as at 4 m.
+  float farReadingM() const {
+    return static_cast<float>(kFarDepthM) / static_cast<float>(depthScale());
+  }
 };
 
 /// The camera's distance from the sphere's centre [m]: the optical frame's origin in the sphere
@@ -125,8 +130,7 @@ struct InputScratch {
 /// (each reading clamped to `max_depth_m`) into scratch.depth_small and their fraction of it
 /// into scratch.valid_small, both size x size; their mean is the one over the other. The filled
 /// input is made from these, so after writeNetworkInput in DepthGaps::kFilled they are already
-/// there, each reading clamped to kFarDepthM / InputFormat::depthScale(): far in the depth the
-/// network reads, so that a block reads as it would in the same scene at 4 m.
+/// there, each reading clamped to InputFormat::farReadingM().
 void sumValidDepth(const cv::Mat& depth, int size, InputScratch& scratch,
                    float max_depth_m = static_cast<float>(kFarDepthM));
 
