@@ -1,11 +1,12 @@
 #include "occlusion_env/common/package_paths.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include "common/temporary_dir.hpp"
 
 namespace occlusion_env {
 namespace {
@@ -13,35 +14,31 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A scratch folder holding a fake install prefix, devel space and source tree.
-class PackagePathsTest : public ::testing::Test {
+class PackagePathsTest : public TemporaryDirTest {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / ("occlusion_env_package_paths_" + std::to_string(getpid()));
-    fs::remove_all(root_);
-    fs::create_directories(root_ / "install/lib/occlusion_env");
-    fs::create_directories(root_ / "devel/lib/occlusion_env");
-    fs::create_directories(root_ / "devel/share/occlusion_env/cmake");  // as catkin makes it
-    fs::create_directories(root_ / "source");
-    std::ofstream(root_ / "source/package.xml") << "<package/>\n";
+    TemporaryDirTest::SetUp();
+    fs::create_directories(dir_ / "install/lib/occlusion_env");
+    fs::create_directories(dir_ / "devel/lib/occlusion_env");
+    fs::create_directories(dir_ / "devel/share/occlusion_env/cmake");  // as catkin makes it
+    fs::create_directories(dir_ / "source");
+    std::ofstream(dir_ / "source/package.xml") << "<package/>\n";
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   void installShare() {
-    fs::create_directories(root_ / "install/share/occlusion_env");
-    std::ofstream(root_ / "install/share/occlusion_env/package.xml") << "<package/>\n";
+    fs::create_directories(dir_ / "install/share/occlusion_env");
+    std::ofstream(dir_ / "install/share/occlusion_env/package.xml") << "<package/>\n";
   }
   /// The inputs of a process whose library and program are under `prefix`.
   PackageSearch searchFrom(const std::string& prefix) const {
     PackageSearch search;
-    search.library_file = (root_ / prefix / "lib/libocclusion_env_core.so").string();
-    search.executable_file = (root_ / prefix / "lib/occlusion_env/occlusion_agents").string();
-    search.devel_prefix = (root_ / "devel").string();
-    search.source_directory = (root_ / "source").string();
+    search.library_file = (dir_ / prefix / "lib/libocclusion_env_core.so").string();
+    search.executable_file = (dir_ / prefix / "lib/occlusion_env/occlusion_agents").string();
+    search.devel_prefix = (dir_ / "devel").string();
+    search.source_directory = (dir_ / "source").string();
     return search;
   }
-  std::string path(const std::string& relative) const { return (root_ / relative).string(); }
-
-  fs::path root_;
+  std::string path(const std::string& relative) const { return (dir_ / relative).string(); }
 };
 
 TEST_F(PackagePathsTest, InstalledProgramFindsTheShareDirectoryOfItsPrefix) {

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/temporary_dir.hpp"
+
 namespace occlusion_env {
 namespace {
 
@@ -19,18 +21,7 @@ std::string readAll(const fs::path& path) {
   return text.str();
 }
 
-class TextFileTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("text_file_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+using TextFileTest = TemporaryDirTest;
 
 TEST_F(TextFileTest, WritesReplacesAndAppends) {
   const std::string path = (dir_ / "log.csv").string();

@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"
@@ -43,17 +44,10 @@ DatasetOptions quickOptions(int scenes, int frames) {
   return options;
 }
 
-// An empty folder of this name (and the process id) under the system's temporary folder.
-fs::path emptyTemporaryDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
 // Generated once for the tests below.
 const std::string& tinyDataset() {
   static const std::string dir = [] {
-    const fs::path path = emptyTemporaryDir("occlusion_env_dataset_test");
+    const fs::path path = temporaryDir("occlusion_env_dataset_test");
     const GenerationReport report = generateDataset(path.string(), tinyOptions());
     EXPECT_EQ(report.scenes_written, 2);
     EXPECT_EQ(report.frames_written, 24);
@@ -247,7 +241,7 @@ TEST(DatasetTest, ReaderAuditResumeAndRefusals) {
 // labels name world, sensor and camera, scene_camera's K is the drawn one, and the audit
 // re-renders it with the same draws (and catches a changed frame).
 TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
-  const fs::path dir = emptyTemporaryDir("occlusion_env_randomized");
+  const fs::path dir = temporaryDir("occlusion_env_randomized");
   DatasetOptions options = quickOptions(4, 3);
   options.randomize = true;
   generateDataset(dir.string(), options);
@@ -307,7 +301,7 @@ TEST(DatasetTest, RandomizedSetNamesItsDrawsAndPassesTheAudit) {
 }
 
 TEST(DatasetTest, FirstElevationIsDrawnPerSceneOverTheSameScenesAndPassesTheAudit) {
-  const fs::path dir = emptyTemporaryDir("occlusion_env_elevated");
+  const fs::path dir = temporaryDir("occlusion_env_elevated");
   DatasetOptions options = tinyOptions();
   options.scenes = 4;
   options.frames = 3;
@@ -362,7 +356,7 @@ TEST(DatasetTest, MaxSceneAttemptsReachesTheEnvironmentAndTheManifestOnlyWhenSet
 // at the old unit's 6.55 m, and the set passes its audit. An image that records the old unit
 // (0.1 mm) is read with it.
 TEST(DatasetTest, ARoomsFarDepthIsStoredAndEachImageIsReadInItsOwnUnit) {
-  const fs::path dir = emptyTemporaryDir("occlusion_env_room_depth");
+  const fs::path dir = temporaryDir("occlusion_env_room_depth");
   DatasetOptions options = quickOptions(2, 2);
   options.world = "room";
   generateDataset(dir.string(), options);
@@ -417,7 +411,7 @@ TEST(DatasetTest, ARoomsFarDepthIsStoredAndEachImageIsReadInItsOwnUnit) {
 // jitter, at 1 m, draws exactly that camera; the manifest records the ranges and the audit
 // re-draws them. Ranges without --randomize, or a min above its max, are refused.
 TEST(DatasetTest, CameraRangesReachTheDrawsTheManifestAndTheAudit) {
-  const fs::path dir = emptyTemporaryDir("occlusion_env_camera_ranges");
+  const fs::path dir = temporaryDir("occlusion_env_camera_ranges");
   DatasetOptions options = quickOptions(3, 2);
   options.randomize = true;
   options.camera_ranges.radius_range_m = {1.0, 1.0};

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "learning/temporary_dir.hpp"
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"

@@ -11,7 +11,7 @@
 #include <optional>
 #include <set>
 
-#include "learning/temporary_dir.hpp"
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/generator.hpp"

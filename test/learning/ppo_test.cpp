@@ -9,7 +9,7 @@
 #include <sstream>
 #include <vector>
 
-#include "learning/temporary_dir.hpp"
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/scene_set.hpp"

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/report/eval_options.hpp"
@@ -33,18 +34,14 @@ TEST(Report, LinksToOutputFilesGetThePrefix) {
             "[web](http://example.org/a.png) [text](notes.txt)");
 }
 
-class ManifestTree : public ::testing::Test {
+class ManifestTree : public TemporaryDirTest {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("report_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_ / "doc" / "training");
-    fs::create_directories(root_ / "models");
-    options_.source_dir = root_.string();
+    TemporaryDirTest::SetUp();
+    fs::create_directories(dir_ / "doc" / "training");
+    fs::create_directories(dir_ / "models");
+    options_.source_dir = dir_.string();
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   static nlohmann::json network(const std::string& variant, int size, double iou) {
     return {{"kind", "multitask_unet"},
@@ -57,15 +54,14 @@ class ManifestTree : public ::testing::Test {
   }
   void write(const fs::path& path, const nlohmann::json& json) { std::ofstream(path) << json; }
 
-  fs::path root_;
   EvalOptions options_;
 };
 
 TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenShippedThenPaper) {
-  write(root_ / "doc" / "training" / "a_sar.json", network("sar_unet", 64, 0.5));
-  write(root_ / "doc" / "training" / "b_unet.json", network("unet", 64, 0.4));
-  write(root_ / "doc" / "training" / "broken.json", "not a manifest");
-  write(root_ / "models" / "shipped64.json", network("r_unet", 64, 0.6));
+  write(dir_ / "doc" / "training" / "a_sar.json", network("sar_unet", 64, 0.5));
+  write(dir_ / "doc" / "training" / "b_unet.json", network("unet", 64, 0.4));
+  write(dir_ / "doc" / "training" / "broken.json", "not a manifest");
+  write(dir_ / "models" / "shipped64.json", network("r_unet", 64, 0.6));
   const std::string table = networkSection(options_);
   const auto unet = table.find("[b_unet](doc/training/b_unet.png) | unet | 64 | 7 / 10 | 42 min");
   const auto sar = table.find("[a_sar](doc/training/a_sar.png) | sar_unet | 64");
@@ -83,7 +79,7 @@ TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenShippedThen
 
 TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {
   EXPECT_EQ(policySection(options_), "");
-  write(root_ / "models" / "policy_x.json",
+  write(dir_ / "models" / "policy_x.json",
         {{"kind", "ppo_policy"},
          {"file", "policy_x.pt"},
          {"env_steps", 1000},
@@ -101,7 +97,7 @@ TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {
 // A summary of episodes that the camera bridge ended says its successes are the bridge's verdicts
 // and where the truth is; one of episodes the simulator ended does not.
 TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
-  options_.out = root_.string();
+  options_.out = dir_.string();
   options_.plots = false;
   std::vector<EpisodeRecord> records(2);
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -122,7 +118,7 @@ TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
                          "truth; how often the view was truly clear: `set_bridge.md`"),
             std::string::npos)
       << bridged;
-  std::ifstream file(root_ / "set_bridge_summary.md");
+  std::ifstream file(dir_ / "set_bridge_summary.md");
   const std::string written((std::istreambuf_iterator<char>(file)),
                             std::istreambuf_iterator<char>());
   EXPECT_EQ(written, bridged);

@@ -1,7 +1,6 @@
 // Object catalogues (properties parser, Sweet Home 3D, mesh folder) and the object library.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -13,6 +12,7 @@
 
 #include "../../src/scene/catalogs/assimp_mesh_loader.hpp"
 #include "../../src/scene/catalogs/java_properties.hpp"
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/scene/object_catalog.hpp"
 #include "occlusion_env/scene/object_library.hpp"
@@ -35,26 +35,15 @@ void expectThrowMentioning(F&& call, const std::string& part) {
   }
 }
 
-// A fresh folder under the system's temp dir, removed afterwards.
-class TempDirTest : public ::testing::Test {
+// A fresh folder under the system's temp dir, removed afterwards, and files written into it.
+class TempDirTest : public TemporaryDirTest {
  protected:
-  void SetUp() override {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("occlusion_env_" + std::string(test->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string write(const std::string& relative, const std::string& content) const {
     const fs::path path = dir_ / relative;
     fs::create_directories(path.parent_path());
     std::ofstream(path, std::ios::binary) << content;
     return path.string();
   }
-
-  fs::path dir_;
 };
 
 // ---------------------------------------------------------------------------------------------
