@@ -1,6 +1,7 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
 scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries,
-scripts/stopping_rules.py on calibration views written here."""
+scripts/stopping_rules.py on calibration views written here, scripts/depth_coverage.py on frames
+written here."""
 import json
 import os
 import subprocess
@@ -442,3 +443,38 @@ def test_frames_are_cropped_to_the_field_of_view_around_their_principal_point(tm
     again = subprocess.run([sys.executable, CROP_TO_FIELD_OF_VIEW, dataset, tmp_path / "out"],
                            capture_output=True, text=True)
     assert again.returncode != 0 and "exists" in again.stderr
+
+
+DEPTH_COVERAGE = os.path.join(ROOT, "scripts", "depth_coverage.py")
+
+
+def test_depth_coverage_counts_unread_pixels_overall_and_under_the_occlusion_label(tmp_path):
+    import numpy as np
+    from PIL import Image
+    dataset = tmp_path / "data"
+    for scene in ("000000", "000001"):
+        for folder in ("depth", "occlusion"):
+            (dataset / "train" / scene / folder).mkdir(parents=True)
+    # Two 10 x 10 frames: 200 pixels, 30 of them unread; 8 occluded, 3 of those unread.
+    depth = np.full((10, 10), 4000, np.uint16)
+    depth[0, :] = 0           # 10 unread, none occluded
+    depth[5, 0:3] = 0         # 3 unread, all occluded
+    occlusion = np.zeros((10, 10), np.uint8)
+    occlusion[5, 0:5] = 255   # 5 occluded
+    Image.fromarray(depth).save(dataset / "train" / "000000" / "depth" / "000000.png")
+    Image.fromarray(occlusion).save(dataset / "train" / "000000" / "occlusion" / "000000.png")
+    depth = np.full((10, 10), 1234, np.uint16)
+    depth[9, :] = depth[8, 3:10] = 0  # 17 unread
+    occlusion = np.zeros((10, 10), np.uint8)
+    occlusion[2, 2:5] = 255   # 3 occluded, all read
+    Image.fromarray(depth).save(dataset / "train" / "000001" / "depth" / "000000.png")
+    Image.fromarray(occlusion).save(dataset / "train" / "000001" / "occlusion" / "000000.png")
+    result = subprocess.run([sys.executable, DEPTH_COVERAGE, dataset], capture_output=True,
+                            text=True)
+    assert result.returncode == 0, result.stderr
+    assert "| %s | 2 | 15.0 %% | 37.5 %% |" % dataset in result.stdout
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    result = subprocess.run([sys.executable, DEPTH_COVERAGE, empty], capture_output=True,
+                            text=True)
+    assert result.returncode != 0 and "no frames under" in result.stderr
