@@ -8,15 +8,12 @@
 #include <sstream>
 
 #include "agents/test_agent.hpp"
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
 
 namespace occlusion_env {
 namespace {
-
-std::string temporaryPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / name).string();
-}
 
 EpisodeRecord sampleRecord() {
   EpisodeRecord record;
@@ -33,12 +30,15 @@ EpisodeRecord sampleRecord() {
   return record;
 }
 
-TEST(EpisodeTest, CsvRoundTripKeepsEveryField) {
+// Episode CSVs written and read in a scratch folder of their own.
+class EpisodeCsvTest : public TemporaryDirTest {};
+
+TEST_F(EpisodeCsvTest, CsvRoundTripKeepsEveryField) {
   EpisodeRecord cut = sampleRecord();
   cut.end = EpisodeEnd::kEnvironmentLost;
   cut.message = "lost, with \"quotes\"\nand a line break";
   cut.final_occlusion_px = -1;
-  const std::string path = temporaryPath("occlusion_env_episode_test.csv");
+  const std::string path = (dir_ / "episodes.csv").string();
   {
     std::ofstream out(path);
     out << episodeCsvHeader() << '\n';
@@ -64,11 +64,10 @@ TEST(EpisodeTest, CsvRoundTripKeepsEveryField) {
   EXPECT_FALSE(read[1].completed());
   EXPECT_EQ(read[1].final_occlusion_px, -1);
   EXPECT_EQ(read[1].message.find_first_of(",\"\n"), std::string::npos) << read[1].message;
-  std::remove(path.c_str());
 }
 
-TEST(EpisodeTest, ReadsVersionOneAndRefusesMalformedFiles) {
-  const std::string path = temporaryPath("occlusion_env_episode_v1.csv");
+TEST_F(EpisodeCsvTest, ReadsVersionOneAndRefusesMalformedFiles) {
+  const std::string path = (dir_ / "episodes_v1.csv").string();
   std::ofstream(path) << "agent,scene_set,scene_seed,start_azimuth_rad,max_steps,steps,success,"
                          "final_occlusion_px,wall_time_s\nrandom,s,5,0,50,50,0,223,0.07\n"
                          "gradient,s,5,0,50,12,1,0,0.02\n";

@@ -5,20 +5,24 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 
 namespace occlusion_env {
 namespace {
 
-std::string writeTemporary(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / name;
-  std::ofstream(path) << text;
-  return path.string();
-}
+// Scene-set files written and read in a scratch folder of their own.
+class SceneSetFileTest : public TemporaryDirTest {
+ protected:
+  std::string write(const std::string& name, const std::string& text) {
+    const auto path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+};
 
 // Evaluations refuse the seeds trainers draw from, and take the validation set's.
 TEST(SceneSet, TheValidationSetIsAboveEveryTrainersSeeds) {
@@ -81,7 +85,7 @@ TEST(SceneSet, DisjointnessChecksFindSharedSeeds) {
   EXPECT_TRUE((SeedRange{10, 5}).contains(14));
 }
 
-TEST(SceneSet, SaveThenLoadRoundTripsAndSeedRangeExpands) {
+TEST_F(SceneSetFileTest, SaveThenLoadRoundTripsAndSeedRangeExpands) {
   SceneSet set;
   set.name = "round_trip";
   set.description = "a: test";
@@ -91,7 +95,7 @@ TEST(SceneSet, SaveThenLoadRoundTripsAndSeedRangeExpands) {
   set.num_objects = 2;
   set.start_azimuth_rad = -0.0625;
   set.seeds = {1'000'020, 1'000'007};
-  const auto path = (std::filesystem::temp_directory_path() / "scene_set_round_trip.yaml").string();
+  const auto path = (dir_ / "scene_set_round_trip.yaml").string();
   saveSceneSet(set, path);
   const SceneSet loaded = loadSceneSet(path);
   EXPECT_EQ(loaded.name, set.name);
@@ -102,16 +106,14 @@ TEST(SceneSet, SaveThenLoadRoundTripsAndSeedRangeExpands) {
   EXPECT_EQ(loaded.num_objects, 2);
   EXPECT_EQ(loaded.start_azimuth_rad, -0.0625);
   EXPECT_EQ(loaded.seeds, set.seeds);
-  std::remove(path.c_str());
 
   const auto range_path =
-      writeTemporary("scene_set_range.yaml", "name: r\nseed_range: {first: 1000000, count: 3}\n");
+      write("scene_set_range.yaml", "name: r\nseed_range: {first: 1000000, count: 3}\n");
   EXPECT_EQ(loadSceneSet(range_path).seeds,
             (std::vector<std::uint64_t>{1'000'000, 1'000'001, 1'000'002}));
-  std::remove(range_path.c_str());
 }
 
-TEST(SceneSet, BadFilesAreRejectedNamingTheKey) {
+TEST_F(SceneSetFileTest, BadFilesAreRejectedNamingTheKey) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"seeds: [1, 2]\nsede: 3\n", "sede"},
       {"seeds: [1, 2, 1]\n", "duplicate"},
@@ -121,14 +123,13 @@ TEST(SceneSet, BadFilesAreRejectedNamingTheKey) {
       {"seeds: [a]\n", "seeds"},
   };
   for (const auto& [text, expected] : cases) {
-    const auto path = writeTemporary("scene_set_bad.yaml", text);
+    const auto path = write("scene_set_bad.yaml", text);
     try {
       loadSceneSet(path);
       ADD_FAILURE() << "accepted: " << text;
     } catch (const InvalidArgumentError& error) {
       EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
     }
-    std::remove(path.c_str());
   }
   EXPECT_THROW(loadSceneSet("/nonexistent/scenes.yaml"), InvalidArgumentError);
 }

@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
+#include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/eval/progress.hpp"
@@ -110,7 +110,10 @@ TEST(Sweep, SweetHome3DSweepShowsOneNewModelPerSeedAtEveryAzimuth) {
   }
 }
 
-TEST(Sweep, ModelsCsvQuotesTextFields) {
+// The models' CSV written and read in a scratch folder of its own.
+class SweepCsvTest : public TemporaryDirTest {};
+
+TEST_F(SweepCsvTest, ModelsCsvQuotesTextFields) {
   SweepModel model;
   model.seed = 1'002'003;
   model.object.id = "cat/id";
@@ -123,7 +126,7 @@ TEST(Sweep, ModelsCsvQuotesTextFields) {
   other.id = "other";
   other.category = "chair";
   model.redrawn = {{-M_PI / 32.0, other}};
-  const auto path = (std::filesystem::temp_directory_path() / "sweep_models_test.csv").string();
+  const auto path = (dir_ / "sweep_models.csv").string();
   writeSweepModelsCsv({model}, path);
   std::ifstream in(path);
   std::string header, row, rest;
@@ -133,7 +136,6 @@ TEST(Sweep, ModelsCsvQuotesTextFields) {
   EXPECT_EQ(row, R"(1002003,"cat/id","Chair, ""Oak""","chair",test,"","CC0",0.5,0.25,1,)"
                  R"("-5.62 deg: other")");
   EXPECT_FALSE(std::getline(in, rest));
-  std::remove(path.c_str());
   EXPECT_THROW(writeSweepModelsCsv({model}, "/nonexistent_dir/models.csv"), InvalidArgumentError);
 }
 
