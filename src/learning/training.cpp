@@ -213,9 +213,9 @@ Batch batchOf(const Samples& samples, const torch::Tensor& indices) {
 }
 
 // Colour jitter (brightness and contrast 0.8..1.2 on the RGB channels), horizontal flips with
-// the label transform (sin, cos) -> (sin, -cos) (dataset/labels.hpp) and moves (shiftFrames), in
-// place.
-void augment(Batch& batch, double shift) {
+// the label transform (sin, cos) -> (sin, -cos) (dataset/labels.hpp), moves (shiftFrames) and
+// frames without depth (dropDepth), in place.
+void augment(Batch& batch, double shift, double depth_dropout) {
   const int64_t n = batch.inputs.size(0);
   torch::Tensor rgb = batch.inputs.slice(1, 0, 3) * 0.25 + 0.5;
   const torch::Tensor brightness = torch::empty({n, 1, 1, 1}).uniform_(0.8, 1.2);
@@ -236,6 +236,7 @@ void augment(Batch& batch, double shift) {
   batch.shortest_moves = torch::where(
       flip.view({n, 1}), mirroredShortestMoves(batch.shortest_moves), batch.shortest_moves);
   shiftFrames(batch.inputs, batch.masks, shift);
+  dropDepth(batch.inputs, depth_dropout);
 }
 
 void setLearningRate(torch::optim::AdamW& optimizer, double rate) {
@@ -423,6 +424,15 @@ void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
   masks = moved_masks;
 }
 
+void dropDepth(torch::Tensor& inputs, double probability) {
+  if (probability <= 0.0) return;
+  const int64_t n = inputs.size(0);
+  const torch::Tensor blind = (torch::rand({n}) < probability).view({n, 1, 1, 1});
+  torch::Tensor depth = inputs.slice(1, 3, 4);
+  depth.masked_fill_(blind, 2.0);  // no depth, as far: (1 - 0.5) / 0.25
+  if (inputs.size(1) > 4) inputs.slice(1, 4).masked_fill_(blind, -2.0);  // nothing read
+}
+
 const OptionTable<TrainingOptions>& trainingOptionTable() {
   using O = TrainingOptions;
   static const auto table =
@@ -461,6 +471,11 @@ const OptionTable<TrainingOptions>& trainingOptionTable() {
                OptionSpec("with augment: each frame moved by up to this fraction of its size in "
                           "x and y, labels kept, the border the void's (0: no moves)")
                    .range(0, 0.5))
+          .add("depth_dropout", &O::depth_dropout,
+               OptionSpec("with augment: this fraction of the training frames (drawn per batch) "
+                          "read no depth anywhere, so that occlusion is learnt from colour too, as "
+                          "where a sensor reads nothing nearer than its minimum range (0: none)")
+                   .range(0, 1))
           .add("negatives", &O::negatives,
                OptionSpec("add this fraction of the training frames' count as frames with "
                           "nothing to occlude (empty mask, no direction labels): half bare "
@@ -500,6 +515,7 @@ nlohmann::json TrainingOptions::toJson() const {
   // Only when set, so that runs from random weights keep the identity they always had.
   if (init_from.empty()) json.erase("init_from");
   if (shift == 0.0) json.erase("shift");
+  if (depth_dropout == 0.0) json.erase("depth_dropout");
   if (negatives == 0.0) json.erase("negatives");
   if (mask_coverage == kPaperMaskCoverage) json.erase("mask_coverage");
   if (network.escape_bins == 0) json.erase("escape_bin_concentration");  // nothing it weighs
@@ -1047,7 +1063,7 @@ EpochMetrics trainEpoch(MultiTaskUNet& network, torch::optim::AdamW& optimizer,
     setLearningRate(optimizer, rate);
     Batch batch =
         batchOf(data.train, order.slice(0, b * options.batch_size, (b + 1) * options.batch_size));
-    if (options.augment) augment(batch, options.shift);
+    if (options.augment) augment(batch, options.shift, options.depth_dropout);
     const torch::Tensor loss = batchLoss(network->forward(batch.inputs), batch, options);
     optimizer.zero_grad();
     loss.backward();

@@ -1750,6 +1750,42 @@ TEST(LearningTest, ShiftedFramesMoveWithTheirMasks) {
   }
 }
 
+TEST(LearningTest, DroppedDepthReadsAsFarAndNothingReadWithTheColourKept) {
+  torch::manual_seed(4);
+  const int64_t n = 200, size = 8;
+  const torch::Tensor original = torch::rand({n, 5, size, size});
+  torch::Tensor inputs = original.clone();
+  dropDepth(inputs, 0.3);
+  int dropped = 0;
+  for (int64_t i = 0; i < n; ++i) {
+    EXPECT_TRUE(torch::equal(inputs[i].slice(0, 0, 3), original[i].slice(0, 0, 3)));
+    if (torch::equal(inputs[i][3], original[i][3])) {
+      EXPECT_TRUE(torch::equal(inputs[i][4], original[i][4]));  // kept whole
+      continue;
+    }
+    ++dropped;
+    EXPECT_TRUE(inputs[i][3].eq(2.0).all().item<bool>());   // far, the void's depth
+    EXPECT_TRUE(inputs[i][4].eq(-2.0).all().item<bool>());  // nothing read
+  }
+  EXPECT_GT(dropped, 40);  // 60 expected of 200
+  EXPECT_LT(dropped, 80);
+  // None asked: nothing changes and nothing is drawn; a four-channel input loses its depth too.
+  torch::Tensor again = original.clone();
+  dropDepth(again, 0.0);
+  EXPECT_TRUE(torch::equal(again, original));
+  torch::Tensor four = original.slice(1, 0, 4).clone();
+  dropDepth(four, 1.0);
+  EXPECT_TRUE(four.slice(1, 3, 4).eq(2.0).all().item<bool>());
+  EXPECT_TRUE(torch::equal(four.slice(1, 0, 3), original.slice(1, 0, 3)));
+
+  TrainingOptions options;
+  EXPECT_FALSE(options.toJson().contains("depth_dropout")) << "runs without it keep their identity";
+  options.depth_dropout = 0.25;
+  EXPECT_DOUBLE_EQ(options.toJson().at("depth_dropout").get<double>(), 0.25);
+  options.depth_dropout = 1.5;
+  EXPECT_THROW(options.validate(), InvalidArgumentError);
+}
+
 TEST(LearningTest, OcclusionEstimatedOnAWallIsClearedAndOnAnObjectInFrontOfItKept) {
   // A network that says "occluded" everywhere, a wall 2 m away and a box 1.2 m away over the
   // middle quarter of the view (16 x 16 of the 32 x 32 network pixels).

@@ -109,6 +109,10 @@ struct TrainingOptions {
   // pixels), labels unchanged, the uncovered border the void's (black, no depth): an estimate that
   // follows the content, not where occlusion usually is in a centred scene. 0: no moves.
   double shift = 0.0;
+  // With augment: this fraction of the training frames, drawn per batch, lose every depth reading
+  // (dropDepth): the network must then find occlusion from colour alone, as where a sensor reads
+  // nothing of objects nearer than its minimum range. 0: none.
+  double depth_dropout = 0.0;
   // Frames with nothing to occlude added to the training frames, as a fraction of their count
   // (loadTrainingData's `negatives`; read by the tool that loads the data). 0: none.
   double negatives = 0.0;
@@ -138,6 +142,11 @@ struct TrainingOptions {
 /// x S) by whole pixels drawn uniformly from [-shift * S, shift * S] in x and y (torch's
 /// generator); the uncovered border becomes the void's input (black, no depth) and mask 0.
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift);
+
+/// Each frame of `inputs` (N x C x S x S, learning/network_input.hpp) with this probability
+/// (torch's generator) reads no depth anywhere: its depth channel as far and its valid-fraction
+/// channel, if it has one, as nothing read, as the void's; RGB kept. 0 draws nothing.
+void dropDepth(torch::Tensor& inputs, double probability);
 
 /// The declared options of TrainingOptions but the network (networkConfigTable()), by their
 /// manifest names; the flags are occlusion_train's.
