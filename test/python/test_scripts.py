@@ -1,7 +1,7 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
 scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries,
 scripts/stopping_rules.py on calibration views written here, scripts/depth_coverage.py on frames
-written here."""
+and scripts/plot_iou_by_radius.py on check files written here."""
 import json
 import os
 import subprocess
@@ -478,3 +478,40 @@ def test_depth_coverage_counts_unread_pixels_overall_and_under_the_occlusion_lab
     result = subprocess.run([sys.executable, DEPTH_COVERAGE, empty], capture_output=True,
                             text=True)
     assert result.returncode != 0 and "no frames under" in result.stderr
+
+
+PLOT_IOU_BY_RADIUS = os.path.join(ROOT, "scripts", "plot_iou_by_radius.py")
+
+
+def write_check(tmp_path, name, sensor, radius_range, iou, model="m.pt", randomize=True):
+    dataset = tmp_path / name
+    dataset.mkdir()
+    options = {"randomize": randomize, "world": "room", "depth_sensor": sensor,
+               "camera_randomization": {"radius_range": radius_range}}
+    (dataset / "dataset.json").write_text(json.dumps({"options": options}))
+    check = tmp_path / (name + ".json")
+    check.write_text(json.dumps({"model": model, "datasets": [str(dataset)],
+                                 "figures": {"val_iou": iou,
+                                             "val_iou_95": [iou - 0.02, iou + 0.01]}}))
+    return check
+
+
+def test_iou_by_radius_is_tabled_per_sensor_from_the_datasets_options(tmp_path):
+    checks = [write_check(tmp_path, "far_ideal", "ideal", [1.0, 1.5], 0.48),
+              write_check(tmp_path, "near_azure", "azure_kinect", [0.5, 1.0], 0.35),
+              write_check(tmp_path, "near_ideal", "ideal", [0.5, 1.0], 0.47)]
+    result = subprocess.run([sys.executable, PLOT_IOU_BY_RADIUS, *map(str, checks)],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0] == "| world, depth sensor | 0.5-1 m | 1-1.5 m |"
+    assert lines[2] == "| room, azure_kinect | 35.0 (33.0-36.0) |  |"
+    assert lines[3] == "| room, ideal | 47.0 (45.0-48.0) | 48.0 (46.0-49.0) |"
+    other = write_check(tmp_path, "other_model", "ideal", [0.5, 1.0], 0.4, model="n.pt")
+    result = subprocess.run([sys.executable, PLOT_IOU_BY_RADIUS, str(checks[0]), str(other)],
+                            capture_output=True, text=True)
+    assert result.returncode != 0 and "2 models" in result.stderr
+    fixed = write_check(tmp_path, "fixed", "ideal", [0.5, 1.0], 0.4, randomize=False)
+    result = subprocess.run([sys.executable, PLOT_IOU_BY_RADIUS, str(fixed)],
+                            capture_output=True, text=True)
+    assert result.returncode != 0 and "not made with --randomize" in result.stderr
