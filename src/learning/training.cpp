@@ -399,15 +399,23 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
   return samples;
 }
 
+namespace {
+// The void's input values, normalised as network_input.cpp does ((x - 0.5) / 0.25): black RGB,
+// depth as far (1), and a valid fraction of 0 (nothing read).
+constexpr double kBlackInput = -2.0;
+constexpr double kNoDepthInput = 2.0;
+constexpr double kNothingReadInput = -2.0;
+}  // namespace
+
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
   const int64_t n = inputs.size(0), size = inputs.size(3);
   const auto reach = static_cast<int64_t>(shift * static_cast<double>(size));
   if (reach == 0) return;
   const torch::Tensor offsets = torch::randint(-reach, reach + 1, {n, 2}, torch::kLong);
   torch::Tensor moved_inputs = torch::empty_like(inputs);
-  moved_inputs.slice(1, 0, 3).fill_(-2.0);  // black: (0 - 0.5) / 0.25
-  moved_inputs.slice(1, 3, 4).fill_(2.0);   // no depth, as far: (1 - 0.5) / 0.25
-  moved_inputs.slice(1, 4).fill_(-2.0);     // (a valid-fraction channel) nothing read
+  moved_inputs.slice(1, 0, 3).fill_(kBlackInput);
+  moved_inputs.slice(1, 3, 4).fill_(kNoDepthInput);
+  moved_inputs.slice(1, 4).fill_(kNothingReadInput);  // a valid-fraction channel, if any
   torch::Tensor moved_masks = torch::zeros_like(masks);
   using torch::indexing::Slice;
   const auto target = [size](int64_t offset) {
@@ -428,9 +436,8 @@ void dropDepth(torch::Tensor& inputs, double probability) {
   if (probability <= 0.0) return;
   const int64_t n = inputs.size(0);
   const torch::Tensor blind = (torch::rand({n}) < probability).view({n, 1, 1, 1});
-  torch::Tensor depth = inputs.slice(1, 3, 4);
-  depth.masked_fill_(blind, 2.0);  // no depth, as far: (1 - 0.5) / 0.25
-  if (inputs.size(1) > 4) inputs.slice(1, 4).masked_fill_(blind, -2.0);  // nothing read
+  inputs.slice(1, 3, 4).masked_fill_(blind, kNoDepthInput);
+  if (inputs.size(1) > 4) inputs.slice(1, 4).masked_fill_(blind, kNothingReadInput);
 }
 
 const OptionTable<TrainingOptions>& trainingOptionTable() {
