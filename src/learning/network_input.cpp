@@ -21,13 +21,8 @@ InvalidArgumentError noIntrinsicsForTheAngleOfView() {
       "the camera's intrinsics; none were given");
 }
 
-// A value in [0, 1] as every channel enters the network.
-float normalised(float unit) {
-  return (unit - 0.5f) / 0.25f;
-}
-
 float normalisedDepth(float metres) {
-  return normalised(metres / kFar);
+  return normalisedInput(metres / kFar);
 }
 
 // `source` resized to `target` by area averaging, or `source` itself at that size already.
@@ -127,7 +122,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
     const cv::Vec3b* pixels = scratch.rgb_small.ptr<cv::Vec3b>(row);
     for (int col = 0; col < size; ++col) {
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
-      for (int c = 0; c < 3; ++c) out[c * plane + i] = normalised(pixels[col][c] / 255.0f);
+      for (int c = 0; c < 3; ++c) out[c * plane + i] = normalisedInput(pixels[col][c] / 255.0f);
     }
   }
   const float scale = static_cast<float>(format.depthScale());
@@ -143,7 +138,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   float* valid_out = out + 4 * plane;
   for (int row = 0; row < size; ++row) {
     const float* fractions = scratch.valid_small.ptr<float>(row);
-    for (int col = 0; col < size; ++col) valid_out[row * size + col] = normalised(fractions[col]);
+    for (int col = 0; col < size; ++col) valid_out[row * size + col] = normalisedInput(fractions[col]);
   }
 }
 
@@ -303,9 +298,6 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
   findGridBoundingSurfaces(intrinsics, rgb.size(), *scratch.surfaces, scratch, format.depthScale());
   // The void: black, far, nothing read; on a bounding surface, or where no depth was read at
   // all.
-  const float black = normalised(0.0f);
-  const float far = normalisedDepth(kFar);
-  const float none_read = normalised(0.0f);
   const std::size_t plane = static_cast<std::size_t>(size) * size;
   for (int row = 0; row < size; ++row) {
     const std::uint8_t* surface = scratch.on_surface.ptr<std::uint8_t>(row);
@@ -313,9 +305,9 @@ void writeNetworkInput(const cv::Mat& rgb, const cv::Mat& depth, const CameraInt
     for (int col = 0; col < size; ++col) {
       if (!surface[col] && valid_fraction[col] > 0.0f) continue;
       const std::size_t i = static_cast<std::size_t>(row) * size + col;
-      out[i] = out[plane + i] = out[2 * plane + i] = black;
-      out[3 * plane + i] = far;
-      if (format.valid_fraction_channel) out[4 * plane + i] = none_read;
+      out[i] = out[plane + i] = out[2 * plane + i] = kBlackInput;
+      out[3 * plane + i] = kNoDepthInput;
+      if (format.valid_fraction_channel) out[4 * plane + i] = kNothingReadInput;
     }
   }
 }

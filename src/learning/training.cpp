@@ -399,14 +399,6 @@ Samples loadCheckFrames(const std::vector<std::string>& dirs, const InputFormat&
   return samples;
 }
 
-namespace {
-// The void's input values, normalised as network_input.cpp does ((x - 0.5) / 0.25): black RGB,
-// depth as far (1), and a valid fraction of 0 (nothing read).
-constexpr double kBlackInput = -2.0;
-constexpr double kNoDepthInput = 2.0;
-constexpr double kNothingReadInput = -2.0;
-}  // namespace
-
 void shiftFrames(torch::Tensor& inputs, torch::Tensor& masks, double shift) {
   const int64_t n = inputs.size(0), size = inputs.size(3);
   const auto reach = static_cast<int64_t>(shift * static_cast<double>(size));
