@@ -138,7 +138,8 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   float* valid_out = out + 4 * plane;
   for (int row = 0; row < size; ++row) {
     const float* fractions = scratch.valid_small.ptr<float>(row);
-    for (int col = 0; col < size; ++col) valid_out[row * size + col] = normalisedInput(fractions[col]);
+    for (int col = 0; col < size; ++col)
+      valid_out[row * size + col] = normalisedInput(fractions[col]);
   }
 }
 

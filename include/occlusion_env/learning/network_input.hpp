@@ -51,7 +51,9 @@ constexpr double kFarDepthM = 8.0;       // beyond the sphere (r = 4 m) and ever
 constexpr double kWorkingRadiusM = 4.0;  // the sphere's radius the networks were trained at
 
 /// How a value in [0, 1] enters the network, in every channel.
-constexpr float normalisedInput(float unit) { return (unit - 0.5f) / 0.25f; }
+constexpr float normalisedInput(float unit) {
+  return (unit - 0.5f) / 0.25f;
+}
 /// The void's input values: black RGB, no depth (read as far) and, in a valid-fraction channel,
 /// nothing read. Cleared surfaces, shifted borders and dropped depth all enter as these.
 constexpr float kBlackInput = normalisedInput(0.0f);
