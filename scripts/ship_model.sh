@@ -4,8 +4,9 @@
 # (occlusion_train) ships best.pt, or chosen.pt where scripts/dagger.sh chose one by the agent's
 # steps on validation scenes (with that choice: selection.csv, chosen.txt); a PPO run
 # (occlusion_train_ppo) ships policy.pt with the end points of its training curves (the last 500
-# episodes) and the sha256 of its backbone. Models derived without training
-# (scripts/derive_model.py) keep their own table.
+# episodes) and the sha256 of its backbone. A chosen.pt made by occlusion_train
+# --half-precision-copy (float16 weights) records the sha256 of the float32 model it copies.
+# Models derived without training (scripts/derive_model.py) keep their own table.
 # Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -44,6 +45,10 @@ if "dataset" in manifest:
     # A relative dataset path is relative to the source tree, where the trainer ran.
     dataset_json = os.path.join(root, manifest["dataset"], "dataset.json")
     manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
+if "half_precision_of" in manifest:
+    # A float16 copy (occlusion_train --half-precision-copy): the float32 model it was made from.
+    source = os.path.join(root, manifest["half_precision_of"])
+    manifest["half_precision_of_sha256"] = hashlib.sha256(open(source, "rb").read()).hexdigest()
 if model == "chosen":
     # The DAgger round's choice: every candidate's mean steps on the validation scenes.
     rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))
@@ -113,7 +118,8 @@ for path in sorted(glob.glob(os.path.join(models, "*.json"))):
     loss = m["training"]["direction_loss"]
     ds = m["dataset_options"]
     lines.append(f"| `{m['file']}` | {net['variant']}{'-L1' if loss == 'smooth_l1' else ''}, "
-                 f"{net['input_size']} px, base {net['base_channels']} | {ds['source']} "
+                 f"{net['input_size']} px, base {net['base_channels']}"
+                 f"{', float16 weights' if m.get('weights') == 'float16' else ''} | {ds['source']} "
                  f"{','.join(ds['categories']) or 'any'}, seeds {ds['first_seed']}.., "
                  f"{frames_per_scene(ds)}, {ds['size']} px"
                  f"{', dataset.json sha256 ' + m['dataset_manifest_sha256'][:12] + '...' if 'dataset_manifest_sha256' in m else ''}"
@@ -142,7 +148,8 @@ if derived:
                      f"{os.path.getsize(pt) / 1e6:.1f} MB | `{digest}` |")
     lines += ["", "(The derived files hold the same bytes as their source: git stores them once. Their "
               "manifests differ.)"]
-    lines += ["", "Their figures and what they are for: doc/TRAINING.md, \"Training for real cameras\"."]
+    lines += ["", "Their figures and what they are for: doc/TRAINING.md, \"Training for real cameras\" (the",
+              "`_fov60` models: \"A fixed angle of view\")."]
 if policies:
     lines += ["", "PPO policies (`occlusion_train_ppo`); the training curves' end points are the means "
               "of the last episodes of training (sampled actions, random start azimuths):", "",

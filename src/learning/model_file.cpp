@@ -45,7 +45,7 @@ nlohmann::json readManifest(const std::string& path) {
 }
 
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
-                           const std::string& what) {
+                           const std::string& what, torch::Dtype stored) {
   // Loading replaces each tensor with the stored one whatever its shape: compare the shapes with
   // those the module was built with.
   std::map<std::string, std::vector<int64_t>> expected;
@@ -55,7 +55,11 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
   try {
     torch::serialize::InputArchive archive;
     archive.load_from(path);
+    // A stored tensor replaces the module's only where their types agree: load in the stored
+    // type, then run in float32.
+    if (stored != torch::kFloat32) module.to(stored);
     module.load(archive);
+    if (stored != torch::kFloat32) module.to(torch::kFloat32);
   } catch (const c10::Error& error) {
     const std::string message = error.what_without_backtrace();
     throw InvalidArgumentError("model " + path + " is corrupt or does not match " + what + ": " +
@@ -67,6 +71,32 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
                                  " has shape " + c10::str(item.value().sizes()));
     }
   }
+}
+
+namespace {
+constexpr const char* kHalfPrecisionWeights = "float16";
+}  // namespace
+
+torch::Dtype storedWeightType(const nlohmann::json& manifest, const std::string& path) {
+  const std::string weights = manifest.value("weights", std::string("float32"));
+  if (weights == "float32") return torch::kFloat32;
+  if (weights == kHalfPrecisionWeights) return torch::kFloat16;
+  throw InvalidArgumentError("model " + path + ": its manifest's weights \"" + weights +
+                             "\" are neither float32 nor float16");
+}
+
+void saveHalfPrecisionCopy(const std::string& source, const std::string& path) {
+  LoadedModel model = loadModel(source);  // refuses a missing or broken source first
+  if (std::filesystem::exists(path) && std::filesystem::equivalent(source, path)) {
+    throw InvalidArgumentError("half-precision copy: " + path + " is the source model itself");
+  }
+  model.network->to(torch::kFloat16);
+  torch::save(model.network, path);
+  nlohmann::json manifest = model.manifest;
+  manifest["weights"] = kHalfPrecisionWeights;
+  manifest["half_precision_of"] = source;
+  manifest["file"] = std::filesystem::path(path).filename().string();
+  writeTextFile(manifestPathFor(path), manifest.dump(2) + "\n");
 }
 
 LoadedModel loadModel(const std::string& path) {
@@ -86,7 +116,8 @@ LoadedModel loadModel(const std::string& path) {
   }
   model.network = MultiTaskUNet(config);
   loadCheckedParameters(*model.network, path,
-                        "its manifest's network (" + config.toJson().dump() + ")");
+                        "its manifest's network (" + config.toJson().dump() + ")",
+                        storedWeightType(model.manifest, path));
   model.network->eval();
   return model;
 }

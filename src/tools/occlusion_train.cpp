@@ -46,6 +46,7 @@ struct Arguments {
   std::vector<double> check_probabilities = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7};
   std::string versus_dir;  // with --check: a second dataset, and the gap between the two IoUs
   std::string bench_model;
+  std::string half_precision_model;  // instead: its float16 copy written to --out
 };
 
 const OptionTable<Arguments>& argumentTable() {
@@ -87,7 +88,11 @@ const OptionTable<Arguments>& argumentTable() {
                           "with its 95 % interval by a bootstrap paired by scene"))
           .add("bench_inference", &Arguments::bench_model,
                OptionSpec("instead: time one learned step's inference with this model (input from "
-                          "a 256 x 256 observation, batch 1, one thread) and exit"));
+                          "a 256 x 256 observation, batch 1, one thread) and exit"))
+          .add("half_precision_copy", &Arguments::half_precision_model,
+               OptionSpec("instead: write this model with its weights stored in float16 (half "
+                          "the file, for shipping; loaded and run in float32) to --out "
+                          "(NEW.pt, its manifest beside it) and exit"));
   return table;
 }
 
@@ -105,7 +110,10 @@ void checkArguments(const Arguments& args, bool probabilities_given) {
       throw CLI::ValidationError(std::string(flag) + " needs --check");
     }
   }
-  if (args.bench_model.empty() && args.check_model.empty() &&
+  if (!args.half_precision_model.empty() && args.run_dir.empty()) {
+    throw CLI::ValidationError("--half-precision-copy needs --out NEW.pt");
+  }
+  if (args.bench_model.empty() && args.check_model.empty() && args.half_precision_model.empty() &&
       (args.data_dirs.empty() || args.run_dir.empty())) {
     throw CLI::ValidationError("--data and --out are required");
   }
@@ -409,6 +417,12 @@ int train(const Arguments& args) {
 
 int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
+  if (!args.half_precision_model.empty()) {
+    occlusion_env::learning::saveHalfPrecisionCopy(args.half_precision_model, args.run_dir);
+    std::cout << "occlusion_train: wrote " << args.run_dir << " (float16 weights of "
+              << args.half_precision_model << ") and its manifest\n";
+    return 0;
+  }
   if (!args.check_model.empty()) {
     return checkModel(args.check_model, args.data_dirs, args.options.threads,
                       args.options.mask_coverage, args.run_dir, args.montage_path,
@@ -433,7 +447,7 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, learning::trainingOptionTable(), args.options);
   tools::addOptionFlags(app, argumentTable(), args,
                         {"max_scenes", "check", "montage", "montage_frames", "probabilities",
-                         "versus", "bench_inference"});
+                         "versus", "bench_inference", "half_precision_copy"});
   app.callback([&args, &app] { checkArguments(args, app.count("--probabilities") > 0); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

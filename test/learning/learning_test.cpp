@@ -411,8 +411,9 @@ WarmStart warmStart(const std::string& tag, int epochs) {
   return start;
 }
 
-// --init-from: a run starts from the given model's weights (a warm restart), records it, refuses
-// a model of another network, and resumes only with the same starting model.
+// --init-from: a run starts from the given model's weights (a warm restart; also from a float16
+// copy), records it, refuses a model of another network, and resumes only with the same starting
+// model.
 TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   const WarmStart start = warmStart("warm", 3);
   const fs::path &data_dir = start.data_dir, &source_dir = start.source_dir;
@@ -439,6 +440,15 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   EXPECT_EQ(manifest.at("initialised_from").at("epoch").get<int>(),
             loadModel(source).manifest.at("epoch").get<int>());
 
+  // From a float16 copy of the source: the source's weights to within float16's rounding.
+  const std::string half_source = (source_dir / "half.pt").string();
+  saveHalfPrecisionCopy(source, half_source);
+  TrainingOptions from_half = still;
+  from_half.init_from = half_source;
+  const fs::path half_dir = temporaryDir("occlusion_env_learning_warm_half");
+  train(data, from_half, half_dir.string(), {});
+  EXPECT_LT(largestParameterDifference(source, (half_dir / "best.pt").string()), 2e-3);
+
   // Resuming needs the same starting model; a model of another network is refused.
   TrainingOptions other_start = warm;
   other_start.init_from = (fresh_dir / "best.pt").string();
@@ -456,7 +466,8 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
   const fs::path larger_dir = temporaryDir("occlusion_env_learning_warm_larger");
   train(loadTrainingData(data_dir.string(), 64), larger, larger_dir.string(), {});
   EXPECT_LT(largestParameterDifference(source, (larger_dir / "best.pt").string()), 1e-5);
-  for (const fs::path& dir : {data_dir, source_dir, fresh_dir, warm_dir, refused_dir, larger_dir}) {
+  for (const fs::path& dir :
+       {data_dir, source_dir, fresh_dir, warm_dir, half_dir, refused_dir, larger_dir}) {
     fs::remove_all(dir);
   }
 }
@@ -1669,6 +1680,65 @@ TEST(LearningTest, ARadiusRelativeNetworkSeesAScaledSceneAsTheUnscaledOne) {
             1e-3);
   agent.reset(1);
   EXPECT_THROW(agent.act(RigObservation{rgb, depth}), InvalidArgumentError) << "no camera frame";
+  fs::remove_all(dir);
+}
+
+// A model shipped with float16 weights: half the file, loaded and run in float32, its estimate
+// and move those of the float32 model to within float16's rounding (two degrees of the move's
+// direction at most); another stored type is
+// refused, and so is a copy onto its source.
+TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
+  const fs::path dir = temporaryDir("occlusion_env_learning_half_model");
+  fs::create_directories(dir);
+  const std::string source = defaultModelPath(), half = (dir / "half.pt").string();
+  saveHalfPrecisionCopy(source, half);
+  EXPECT_LT(fs::file_size(half), fs::file_size(source) * 0.55);
+  const auto full_model = std::make_shared<LoadedModel>(loadModel(source));
+  const auto half_model = std::make_shared<LoadedModel>(loadModel(half));
+  EXPECT_EQ(half_model->manifest.at("weights"), "float16");
+  EXPECT_EQ(half_model->manifest.at("half_precision_of"), source);
+  for (const auto& item : half_model->network->named_parameters()) {
+    ASSERT_EQ(item.value().scalar_type(), torch::kFloat32) << item.key();
+  }
+
+  EnvironmentOptions options;
+  options.width = options.height = 128;
+  Environment environment(options);
+  const StepResult start = environment.reset(2);
+  const Observation& view = *start.observation;
+  OcclusionEstimator full_estimator(full_model, 0.5), half_estimator(half_model, 0.5);
+  cv::Mat full_mask, half_mask;
+  const OcclusionEstimate full =
+      full_estimator.estimate(view.rgb, view.depth, start.info.intrinsics, full_mask);
+  const OcclusionEstimate halved =
+      half_estimator.estimate(view.rgb, view.depth, start.info.intrinsics, half_mask);
+  ASSERT_GT(full.occluded_pixels, 0) << "an occluded view";
+  EXPECT_NEAR(halved.mean_probability, full.mean_probability, 2e-3);
+  EXPECT_LE(cv::countNonZero(full_mask != half_mask), full.occluded_pixels / 50);
+  NetworkDirectionAgent full_agent(full_model, DirectionHead::kEscape),
+      half_agent(half_model, DirectionHead::kEscape);
+  full_agent.reset(1);
+  half_agent.reset(1);
+  const Action full_move = full_agent.act(rigObservationOf(start));
+  const Action half_move = half_agent.act(rigObservationOf(start));
+  // The move's direction: float16's rounding turns it by about a degree here.
+  const double turn_rad =
+      std::abs(std::remainder(std::atan2(half_move.d_elevation_rad, half_move.d_azimuth_rad) -
+                                  std::atan2(full_move.d_elevation_rad, full_move.d_azimuth_rad),
+                              2.0 * M_PI));
+  EXPECT_LT(turn_rad, 2.0 * M_PI / 180.0);
+
+  // The shipped robust network is such a copy, and loads as one.
+  const LoadedModel shipped =
+      loadModel((fs::path(source).parent_path() / "multitask_unet64_robust.pt").string());
+  EXPECT_EQ(shipped.manifest.at("weights"), "float16");
+  EXPECT_EQ(shipped.network->config().base_channels, 16);
+
+  nlohmann::json manifest = readManifest(half);
+  manifest["weights"] = "bfloat16";
+  std::ofstream((dir / "half.json").string()) << manifest.dump();
+  EXPECT_THROW(loadModel(half), InvalidArgumentError);
+  EXPECT_THROW(saveHalfPrecisionCopy(half, half), InvalidArgumentError);
   fs::remove_all(dir);
 }
 

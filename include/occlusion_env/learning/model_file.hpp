@@ -1,6 +1,8 @@
 // A trained network on disk: `<name>.pt` (the parameters and buffers, torch::save) beside
 // `<name>.json` (its NetworkConfig, how it was made and its metrics). Loading checks both and
-// refuses a missing, corrupt or mismatched file with a message that says which.
+// refuses a missing, corrupt or mismatched file with a message that says which. The weights are
+// stored in float32, or in float16 where the manifest says "weights": "float16" (half the file,
+// for shipping a wide network); either way they are loaded and run in float32.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -13,6 +15,11 @@ namespace learning {
 
 /// Writes `path` (.pt) and its manifest (path with .json) holding `config` and `info`.
 void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::json& info);
+
+/// Writes a copy of the model at `source` to `path` with its weights stored in float16, and its
+/// manifest: the source's, with "weights": "float16" and "half_precision_of": `source`. Throws
+/// InvalidArgumentError as loadModel() does, or when `path` is `source`.
+void saveHalfPrecisionCopy(const std::string& source, const std::string& path);
 
 struct LoadedModel {
   MultiTaskUNet network{nullptr};
@@ -30,10 +37,15 @@ std::string manifestPathFor(const std::string& model_path);
 /// manifest is missing or the manifest is not JSON.
 nlohmann::json readManifest(const std::string& path);
 
+/// The type the weights of the model at `path` are stored in, from its manifest's "weights"
+/// (absent: float32). Throws InvalidArgumentError for any other than float32 and float16.
+torch::Dtype storedWeightType(const nlohmann::json& manifest, const std::string& path);
+
 /// Loads the parameters and buffers saved in `path` into `module`, refusing (InvalidArgumentError
-/// naming `what`) a corrupt file or one whose tensors do not have `module`'s shapes.
+/// naming `what`) a corrupt file or one whose tensors do not have `module`'s shapes. `stored`:
+/// the floating-point type they were saved in (float32 or float16); `module` ends in float32.
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
-                           const std::string& what);
+                           const std::string& what, torch::Dtype stored = torch::kFloat32);
 
 }  // namespace learning
 }  // namespace occlusion_env
