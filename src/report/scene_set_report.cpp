@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -70,6 +71,32 @@ std::vector<EpisodeRecord> runPlanToCsv(const EvaluationPlan& plan, const std::s
   return records;
 }
 
+void writeBridgeTruthCsv(const std::vector<EpisodeRecord>& records,
+                         const std::vector<std::int64_t>& true_final_px,
+                         std::int64_t success_threshold_px, const std::string& path) {
+  if (records.size() != true_final_px.size()) {
+    throw InvalidArgumentError("bridge truth: " + std::to_string(records.size()) +
+                               " episodes but " + std::to_string(true_final_px.size()) +
+                               " true occlusion figures");
+  }
+  std::ostringstream csv;
+  csv << std::setprecision(9)
+      << "agent,scene_seed,start_azimuth_rad,bridge_steps,bridge_says_clear,truly_clear,"
+         "truth_occlusion_px,azimuth_rad,elevation_rad,end\n";
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const EpisodeRecord& record = records[i];
+    csv << record.agent << ',' << record.scene_seed << ',' << record.start_azimuth_rad << ','
+        << record.steps << ',' << record.success() << ','
+        << (true_final_px[i] <= success_threshold_px) << ',' << true_final_px[i] << ',';
+    // Where the episode ended: the last pose of its path (empty where it has none).
+    if (!record.path.empty()) csv << record.path.back().azimuth_rad;
+    csv << ',';
+    if (!record.path.empty()) csv << record.path.back().elevation_rad;
+    csv << ',' << toString(record.end) << '\n';
+  }
+  writeTextFile(path, csv.str());
+}
+
 namespace {
 
 /// Through the bridge, per agent: how often the bridge said clear, how often the view was truly
@@ -122,13 +149,17 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   ProgressBar progress(std::cerr, plan.episodes(agentRegistry()), name);
   std::vector<std::int64_t> true_final_px;
   const auto records = runEvaluation(plan, agentRegistry(), &csv, &progress, &true_final_px);
+  const std::string truth_path = (fs::path(cl.out) / (name + "_truth.csv")).string();
+  writeBridgeTruthCsv(records, true_final_px, plan.environment.reward.success_threshold_pixels,
+                      truth_path);
   std::ostringstream markdown;
   markdown << "Scene set `" << plan.scenes.name << "` through the camera bridge's logic in front "
            << "of the simulator, network `" << cl.through_bridge << "`, "
            << plan.bridge.confirm_views << " confirming views at probability "
            << plan.bridge.occlusion_probability << " (at most "
            << plan.bridge.occlusion_threshold_px << " px); truly clear: the simulator's L <= "
-           << plan.environment.reward.success_threshold_pixels << " px where the episode ended.\n\n"
+           << plan.environment.reward.success_threshold_pixels
+           << " px where the episode ended (per episode: `" << name << "_truth.csv`).\n\n"
            << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);
   writeTextFile((fs::path(cl.out) / (name + ".md")).string(), markdown.str());
   std::cout << markdown.str();

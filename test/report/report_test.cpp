@@ -124,6 +124,37 @@ TEST_F(ManifestTree, SummaryThroughTheBridgeSaysASuccessIsTheBridgesVerdict) {
   EXPECT_EQ(written, bridged);
 }
 
+// Through the bridge, the truth per episode: the bridge's verdict beside the simulator's L where
+// the episode ended, so that a stop the truth contradicts is found by scene.
+TEST_F(ManifestTree, TheBridgesTruthIsWrittenPerEpisode) {
+  std::vector<EpisodeRecord> records(3);
+  const std::vector<std::int64_t> truth = {0, 3, 120};
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    records[i].agent = "predicted_escape";
+    records[i].scene_seed = 900000 + i;
+    records[i].max_steps = 50;
+    records[i].steps = 9;
+    records[i].end = EpisodeEnd::kSuccess;
+    records[i].path = {SphericalPose{0.0, 0.0}, SphericalPose{0.25, -0.5}};
+  }
+  records[2].end = EpisodeEnd::kUnusableView;
+  records[2].steps = 0;
+  records[2].path.clear();
+  const std::string path = (dir_ / "set_bridge_truth.csv").string();
+  writeBridgeTruthCsv(records, truth, 0, path);
+  std::ifstream file(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0],
+            "agent,scene_seed,start_azimuth_rad,bridge_steps,bridge_says_clear,truly_clear,"
+            "truth_occlusion_px,azimuth_rad,elevation_rad,end");
+  EXPECT_EQ(lines[1], "predicted_escape,900000,0,9,1,1,0,0.25,-0.5,success");
+  EXPECT_EQ(lines[2], "predicted_escape,900001,0,9,1,0,3,0.25,-0.5,success") << "a wrong stop";
+  EXPECT_EQ(lines[3], "predicted_escape,900002,0,0,0,0,120,,,unusable_view");
+  EXPECT_THROW(writeBridgeTruthCsv(records, {0, 3}, 0, path), InvalidArgumentError);
+}
+
 TEST(EvalOptions, TheBridgesStoppingRuleIsTheBridgesDefaultsUnlessGiven) {
   const CameraEnvironmentOptions bridge;
   EvalOptions options;

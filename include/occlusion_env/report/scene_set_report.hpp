@@ -2,6 +2,7 @@
 // summary (Markdown and CSVs) and the plots.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,15 @@ std::vector<EpisodeRecord> runPlanToCsv(const eval::EvaluationPlan& plan,
 std::string writeSceneSetSummary(const EvalOptions& options,
                                  const std::vector<EpisodeRecord>& records, const std::string& name,
                                  const std::string& episodes_csv);
+
+/// Through the camera bridge, one CSV row per episode at `path`: the agent, the scene, where the
+/// episode ended, the bridge's verdict and the simulator's truth there (`true_final_px[i]` [px]
+/// for `records[i]`; truly clear at or below `success_threshold_px`). The columns of
+/// scripts/bridge_evaluation.py's bridge_truth.csv, after the agent and start azimuth. Throws
+/// InvalidArgumentError when the two lists differ in length or the file cannot be written.
+void writeBridgeTruthCsv(const std::vector<EpisodeRecord>& records,
+                         const std::vector<std::int64_t>& true_final_px,
+                         std::int64_t success_threshold_px, const std::string& path);
 
 /// The --scenes mode: the agents on the scene set at `scenes_path` (at most options.limit
 /// scenes), its episodes CSV and summary in options.out. Returns the summary's Markdown.
