@@ -61,7 +61,7 @@ const OptionTable<Arguments>& argumentTable() {
           .add("out", &Arguments::run_dir,
                OptionSpec("RUN_DIR: where checkpoints, logs and the best model go; with --check: "
                           "the JSON file of the figures (default: beside the model, "
-                          "<model>.check.json)"))
+                          "<model>.check.json); with --half-precision-copy: the new model file"))
           .add(
               "max_scenes", &Arguments::max_scenes,
               OptionSpec("use only the first N scenes of each dataset; 0 = all").range(0, 10000000))

@@ -1685,8 +1685,7 @@ TEST(LearningTest, ARadiusRelativeNetworkSeesAScaledSceneAsTheUnscaledOne) {
 
 // A model shipped with float16 weights: half the file, loaded and run in float32, its estimate
 // and move those of the float32 model to within float16's rounding (two degrees of the move's
-// direction at most); another stored type is
-// refused, and so is a copy onto its source.
+// direction at most); another stored type is refused, and so is a copy onto its source.
 TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
   const fs::path dir = temporaryDir("occlusion_env_learning_half_model");
   fs::create_directories(dir);
