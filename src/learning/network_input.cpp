@@ -69,10 +69,13 @@ float filledGap(const cv::Mat& depth_sum, const cv::Mat& valid_fraction, int row
 }
 
 // DepthGaps::kFilled: averaged over valid pixels; gaps filled from their neighbours. Depth
-// times `scale`, each reading clamped at far first (so a block's mean is the one at 4 m).
-void writeDepthFilled(const cv::Mat& depth, int size, float scale, float far_reading_m,
-                      InputScratch& scratch, float* out) {
-  sumValidDepth(depth, size, scratch, far_reading_m);
+// times `format`'s scale, each reading clamped at its far first (so a block's mean is the one at
+// 4 m).
+void writeDepthFilled(const cv::Mat& depth, const InputFormat& format, InputScratch& scratch,
+                      float* out) {
+  const int size = format.size;
+  const float scale = static_cast<float>(format.depthScale());
+  sumValidDepth(depth, size, scratch, format.farReadingM());
   for (int row = 0; row < size; ++row) {
     const float* sums = scratch.depth_small.ptr<float>(row);
     const float* fractions = scratch.valid_small.ptr<float>(row);
@@ -127,7 +130,7 @@ void writeImages(const cv::Mat& rgb, const cv::Mat& depth, const InputFormat& fo
   }
   const float scale = static_cast<float>(format.depthScale());
   if (format.depth_gaps == DepthGaps::kFilled) {
-    writeDepthFilled(depth, size, scale, format.farReadingM(), scratch, out + 3 * plane);
+    writeDepthFilled(depth, format, scratch, out + 3 * plane);
   } else {
     writeDepthFar(depth, size, scale, scratch, out + 3 * plane);
   }
