@@ -71,6 +71,15 @@ std::vector<EpisodeRecord> runPlanToCsv(const EvaluationPlan& plan, const std::s
   return records;
 }
 
+namespace {
+
+// Through the bridge: the view where an episode ended was truly clear (the simulator's L [px]).
+bool trulyClear(std::int64_t true_final_px, std::int64_t success_threshold_px) {
+  return true_final_px <= success_threshold_px;
+}
+
+}  // namespace
+
 void writeBridgeTruthCsv(const std::vector<EpisodeRecord>& records,
                          const std::vector<std::int64_t>& true_final_px,
                          std::int64_t success_threshold_px, const std::string& path) {
@@ -87,7 +96,7 @@ void writeBridgeTruthCsv(const std::vector<EpisodeRecord>& records,
     const EpisodeRecord& record = records[i];
     csv << record.agent << ',' << record.scene_seed << ',' << record.start_azimuth_rad << ','
         << record.steps << ',' << record.success() << ','
-        << (true_final_px[i] <= success_threshold_px) << ',' << true_final_px[i] << ',';
+        << trulyClear(true_final_px[i], success_threshold_px) << ',' << true_final_px[i] << ',';
     // Where the episode ended: the last pose of its path (empty where it has none).
     if (!record.path.empty()) csv << record.path.back().azimuth_rad;
     csv << ',';
@@ -111,7 +120,7 @@ std::string bridgeTable(const std::vector<EpisodeRecord>& records,
     std::size_t end = first;
     int said = 0, truly = 0, agree = 0, steps = 0;
     for (; end < records.size() && records[end].agent == records[first].agent; ++end) {
-      const bool clear = true_final_px[end] <= success_threshold_px;
+      const bool clear = trulyClear(true_final_px[end], success_threshold_px);
       said += records[end].success();
       truly += clear;
       agree += records[end].success() == clear;
