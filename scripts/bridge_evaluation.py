@@ -101,12 +101,15 @@ def main():
         sys.exit("bridge_evaluation: %s: source the workspace first "
                  "(source .build_ws/devel/setup.bash after make build)" % error)
 
+    # This process's node name: the launch file starts the agent once it listens to the truth.
+    scorer = "bridge_evaluation_%d" % os.getpid()
     command = ["roslaunch", "occlusion_env", "bridge_evaluation.launch",
                "seeds:=[%s]" % ", ".join(str(s) for s in seeds), "csv:=" + episodes_csv,
                "world:=" + args.world, "depth_sensor:=" + args.depth_sensor,
                "categories:=[%s]" % ", ".join(scene_set.get("categories", [])),
                "object_source:=" + scene_set.get("source", "sweethome3d"),
-               "start_azimuth:=%r" % float(scene_set.get("start_azimuth", 0.0))]
+               "start_azimuth:=%r" % float(scene_set.get("start_azimuth", 0.0)),
+               "scorer:=" + scorer]
     if args.model:
         command.append("model:=" + os.path.abspath(args.model))
     if args.agent_model:
@@ -130,7 +133,7 @@ def main():
 
         for _ in range(300):  # the master roslaunch starts
             try:
-                rospy.init_node("bridge_evaluation", anonymous=True, disable_signals=True)
+                rospy.init_node(scorer, disable_signals=True)
                 break
             except Exception:
                 time.sleep(0.1)

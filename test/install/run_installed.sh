@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Run by install_space.sh inside its own mount namespace with a clean environment: hides the
 # given folders, sources only the install space, then runs the learned agent, an evaluation with
-# its plot and demo.launch from it.
+# its plot and demo.launch from it, and checks the scripts the launch files run are there.
 # Usage: run_installed.sh INSTALL_SPACE WORK_DIR HIDDEN_DIR...
 set -euo pipefail
 install=${1:?usage: run_installed.sh INSTALL_SPACE WORK_DIR HIDDEN_DIR...}
@@ -42,7 +42,16 @@ if [[ $plots -eq 0 ]]; then
 fi
 echo "install_space: occlusion_eval wrote $(ls "$work/eval" | wc -l) files, $plots plots"
 
-# 3. demo.launch with the learned agent, on a private master; it ends with the agent.
+# 3. Every script an installed launch file runs from the share directory is there.
+for launch in "$share"/launch/*.launch; do
+  while read -r script; do
+    [[ -x "$share/$script" ]] ||
+      { echo "install_space: $(basename "$launch") runs $script: not in the install space"; exit 1; }
+  done < <(grep -o 'find occlusion_env)/scripts/[A-Za-z0-9_.]*' "$launch" | cut -d/ -f2- | sort -u)
+done
+echo "install_space: the scripts the launch files run are installed"
+
+# 4. demo.launch with the learned agent, on a private master; it ends with the agent.
 port=$((20000 + RANDOM % 20000))
 export ROS_MASTER_URI=http://localhost:$port
 timeout 300 roslaunch -p "$port" --screen occlusion_env demo.launch agent:=predicted_escape \
