@@ -172,10 +172,18 @@ void Environment::placeScene(const Scene& scene, const Room* room) {
     renderer_->setBackground(SceneBackground{});
     return;
   }
+  // The room scales with the scene (its floor, walls and ceiling too), so that a camera drawn
+  // nearer sees the same picture at another scale.
   SceneBackground background = room->background();
   if (scene.scale != 1.0) {
     for (auto* meshes : {&background.one_sided, &background.two_sided}) {
       for (PlacedMesh& mesh : *meshes) mesh.world_from_object.prescale(scene.scale);
+    }
+    const auto scale = static_cast<float>(scene.scale);
+    for (TiledSurface& surface : background.tiled) {
+      surface.origin *= scale;
+      surface.step_u *= scale;
+      surface.step_v *= scale;
     }
   }
   renderer_->setBackground(background);

@@ -171,6 +171,49 @@ TEST(SceneSetupTest, ScaledSceneIsTheSceneSeenNearer) {
   EXPECT_GT(compared, 100);
 }
 
+// The same in a room: its floor, walls, ceiling and clutter scale with the scene, so the scaled
+// room seen from the drawn radius is the unscaled room seen from `radius` (until 2026-12-06 the
+// floor, walls and ceiling kept their size: objects floated above a floor drawn for 4 m).
+TEST(SceneSetupTest, ScaledRoomIsTheRoomSeenNearer) {
+  EnvironmentOptions options = randomizedOptions();
+  options.world.world = "room";
+  options.sensor.depth_sensor = "ideal";
+  Environment env(options);
+  for (const std::uint64_t seed : {7u, 12u}) {
+    env.reset(seed);
+    const double scale = env.scene().scale;
+    ASSERT_LT(scale, 0.5);
+    ASSERT_NE(env.room(), nullptr);
+    auto renderer = makeOsMesaRenderer(env.intrinsics());
+    std::vector<PlacedMesh> placed;
+    for (const SceneObject& object : env.scene().objects) {
+      placed.push_back(
+          {&object.model->render, Eigen::Affine3d(Eigen::Translation3d(object.position_m))});
+    }
+    renderer->setScene(placed);
+    renderer->setBackground(env.room()->background());  // as drawn, in the scene's own units
+    const SphericalCamera unscaled(options.radius_m, options.elevation_limit_rad);
+    RenderBuffers reference;
+    renderer->render(unscaled.worldFromOptical(env.info().pose), reference);
+    const RenderBuffers& scaled = env.renderBuffers();
+    ASSERT_EQ(scaled.depth.size(), reference.depth.size());
+    int differing = 0, compared = 0;
+    for (int v = 0; v < reference.depth.rows; ++v) {
+      for (int u = 0; u < reference.depth.cols; ++u) {
+        const float near = scaled.depth.at<float>(v, u), far = reference.depth.at<float>(v, u);
+        if (std::isfinite(near) && std::isfinite(far) &&
+            std::abs(near - scale * far) <= 1e-3 * far) {
+          ++compared;
+        } else {
+          ++differing;  // a floor or wall elsewhere, or an edge pixel rasterised otherwise
+        }
+      }
+    }
+    EXPECT_LE(differing, static_cast<int>(0.005 * reference.depth.total())) << "seed " << seed;
+    EXPECT_GT(compared, static_cast<int>(0.9 * reference.depth.total())) << "seed " << seed;
+  }
+}
+
 TEST(SceneSetupTest, ToolFlagsAndRefusals) {
   EnvironmentOptions options = smallOptions();
   applySceneRandomization(options, std::string("room"), std::nullopt, true);
