@@ -131,6 +131,23 @@ TEST(SceneSetupTest, EnvironmentFollowsTheDrawnSetup) {
   }
 }
 
+// What `env`'s current episode shows unscaled (its objects, and its room as drawn, in the scene's
+// own units) from the options' radius at the same pose, with the same intrinsics.
+RenderBuffers unscaledView(const Environment& env, const EnvironmentOptions& options) {
+  auto renderer = makeOsMesaRenderer(env.intrinsics());
+  std::vector<PlacedMesh> placed;
+  for (const SceneObject& object : env.scene().objects) {
+    placed.push_back(
+        {&object.model->render, Eigen::Affine3d(Eigen::Translation3d(object.position_m))});
+  }
+  renderer->setScene(placed);
+  if (env.room()) renderer->setBackground(env.room()->background());
+  const SphericalCamera unscaled(options.radius_m, options.elevation_limit_rad);
+  RenderBuffers view;
+  renderer->render(unscaled.worldFromOptical(env.info().pose), view);
+  return view;
+}
+
 // The scaled scene seen from the drawn radius is the unscaled scene seen from `radius` with the
 // same intrinsics: the same silhouettes (up to rasterisation at a few edge pixels), depth times
 // the scale.
@@ -142,16 +159,7 @@ TEST(SceneSetupTest, ScaledSceneIsTheSceneSeenNearer) {
   env.reset(7);
   const double scale = env.scene().scale;
   ASSERT_LT(scale, 0.5);
-  auto renderer = makeOsMesaRenderer(env.intrinsics());
-  std::vector<PlacedMesh> placed;
-  for (const SceneObject& object : env.scene().objects) {
-    placed.push_back(
-        {&object.model->render, Eigen::Affine3d(Eigen::Translation3d(object.position_m))});
-  }
-  renderer->setScene(placed);
-  const SphericalCamera unscaled(options.radius_m, options.elevation_limit_rad);
-  RenderBuffers reference;
-  renderer->render(unscaled.worldFromOptical(env.info().pose), reference);
+  const RenderBuffers reference = unscaledView(env, options);
   const RenderBuffers& scaled = env.renderBuffers();
   ASSERT_EQ(scaled.amodal_bits.size(), reference.amodal_bits.size());
   int differing = 0, compared = 0;
@@ -184,17 +192,7 @@ TEST(SceneSetupTest, ScaledRoomIsTheRoomSeenNearer) {
     const double scale = env.scene().scale;
     ASSERT_LT(scale, 0.5);
     ASSERT_NE(env.room(), nullptr);
-    auto renderer = makeOsMesaRenderer(env.intrinsics());
-    std::vector<PlacedMesh> placed;
-    for (const SceneObject& object : env.scene().objects) {
-      placed.push_back(
-          {&object.model->render, Eigen::Affine3d(Eigen::Translation3d(object.position_m))});
-    }
-    renderer->setScene(placed);
-    renderer->setBackground(env.room()->background());  // as drawn, in the scene's own units
-    const SphericalCamera unscaled(options.radius_m, options.elevation_limit_rad);
-    RenderBuffers reference;
-    renderer->render(unscaled.worldFromOptical(env.info().pose), reference);
+    const RenderBuffers reference = unscaledView(env, options);
     const RenderBuffers& scaled = env.renderBuffers();
     ASSERT_EQ(scaled.depth.size(), reference.depth.size());
     int differing = 0, compared = 0;
