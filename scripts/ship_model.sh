@@ -5,7 +5,8 @@
 # steps on validation scenes (with that choice: selection.csv, chosen.txt); a PPO run
 # (occlusion_train_ppo) ships policy.pt with the end points of its training curves (the last 500
 # episodes) and the sha256 of its backbone. A chosen.pt made by occlusion_train
-# --half-precision-copy (float16 weights) records the sha256 of the float32 model it copies.
+# --half-precision-copy or --eight-bit-copy (float16 or 8-bit weights) records the sha256 of the
+# float32 model it copies.
 # Models derived without training (scripts/derive_model.py) keep their own table.
 # Usage: scripts/ship_model.sh RUN_DIR NAME "THE TRAINING COMMAND"
 set -euo pipefail
@@ -45,10 +46,13 @@ if "dataset" in manifest:
     # A relative dataset path is relative to the source tree, where the trainer ran.
     dataset_json = os.path.join(root, manifest["dataset"], "dataset.json")
     manifest["dataset_manifest_sha256"] = hashlib.sha256(open(dataset_json, "rb").read()).hexdigest()
-if "half_precision_of" in manifest:
-    # A float16 copy (occlusion_train --half-precision-copy): the float32 model it was made from.
-    source = os.path.join(root, manifest["half_precision_of"])
-    manifest["half_precision_of_sha256"] = hashlib.sha256(open(source, "rb").read()).hexdigest()
+for key in ("copy_of", "half_precision_of"):
+    # A float16 or 8-bit copy (occlusion_train --half-precision-copy, --eight-bit-copy; the first
+    # float16 copies said "half_precision_of"): the float32 model it was made from.
+    if key in manifest and not key + "_sha256" in manifest:
+        source = os.path.join(root, manifest[key])
+        manifest[key + "_sha256"] = hashlib.sha256(open(source, "rb").read()).hexdigest()
+        break
 if model == "chosen":
     # The DAgger round's choice: every candidate's mean steps on the validation scenes.
     rows = list(csv.DictReader(open(os.path.join(run, "selection.csv"))))

@@ -44,8 +44,97 @@ nlohmann::json readManifest(const std::string& path) {
   }
 }
 
+namespace {
+
+// An 8-bit file holds the module's tensors under their index among its parameters and then its
+// buffers ("t<i>"), in the order the module lists them. A floating-point tensor of two or more
+// dimensions (a convolution's or a linear layer's weights) is stored as uint8 codes ("q<i>") with,
+// per output channel (its first dimension), the lowest value ("low<i>") and the step between codes
+// ("step<i>"), both float32: value = low + code * step, within step / 2 of the original.
+// Smaller tensors (the heads, the first and last layers: 1-2 % of a U-Net's weights, where a
+// small error turns the escape direction most) stay float32.
+constexpr int64_t kEightBitsFrom = 16384;
+
+std::string eightBitKey(const char* what, std::size_t index) {
+  return what + std::to_string(index);
+}
+
+bool storedInEightBits(const torch::Tensor& tensor) {
+  return tensor.is_floating_point() && tensor.dim() >= 2 && tensor.numel() >= kEightBitsFrom;
+}
+
+std::vector<std::pair<std::string, torch::Tensor>> tensorsOf(const torch::nn::Module& module) {
+  std::vector<std::pair<std::string, torch::Tensor>> tensors;
+  for (const auto& item : module.named_parameters()) tensors.emplace_back(item.key(), item.value());
+  for (const auto& item : module.named_buffers()) tensors.emplace_back(item.key(), item.value());
+  return tensors;
+}
+
+torch::Tensor readTensor(torch::serialize::InputArchive& archive, const std::string& key) {
+  c10::IValue value;
+  archive.read(key, value);
+  return value.toTensor();
+}
+
+void saveEightBits(const torch::nn::Module& module, const std::string& path) {
+  torch::NoGradGuard no_grad;
+  torch::serialize::OutputArchive archive;
+  const auto tensors = tensorsOf(module);
+  for (std::size_t i = 0; i < tensors.size(); ++i) {
+    const torch::Tensor tensor = tensors[i].second.detach().to(torch::kCPU);
+    if (!storedInEightBits(tensor)) {
+      archive.write(eightBitKey("t", i), c10::IValue(tensor.clone()));
+      continue;
+    }
+    const torch::Tensor rows = tensor.to(torch::kFloat32).reshape({tensor.size(0), -1});
+    const torch::Tensor low = std::get<0>(rows.min(1));
+    const torch::Tensor high = std::get<0>(rows.max(1));
+    // A channel whose values are all equal keeps them exactly: any step, every code 0.
+    const torch::Tensor step =
+        torch::where(high > low, (high - low) / 255.0, torch::ones_like(low));
+    const torch::Tensor codes =
+        ((rows - low.unsqueeze(1)) / step.unsqueeze(1)).round().clamp(0, 255).to(torch::kUInt8);
+    archive.write(eightBitKey("q", i), c10::IValue(codes.reshape(tensor.sizes()).contiguous()));
+    archive.write(eightBitKey("low", i), c10::IValue(low.contiguous()));
+    archive.write(eightBitKey("step", i), c10::IValue(step.contiguous()));
+  }
+  archive.save_to(path);
+}
+
+// Fills every tensor of `module` from an 8-bit file, refusing one whose shapes differ.
+void loadEightBits(torch::nn::Module& module, const std::string& path, const std::string& what) {
+  torch::serialize::InputArchive archive;
+  archive.load_from(path);
+  torch::NoGradGuard no_grad;
+  const auto tensors = tensorsOf(module);
+  for (std::size_t i = 0; i < tensors.size(); ++i) {
+    const auto& [name, target] = tensors[i];
+    torch::Tensor value;
+    if (storedInEightBits(target)) {
+      const torch::Tensor codes = readTensor(archive, eightBitKey("q", i));
+      if (codes.sizes() == target.sizes()) {
+        const torch::Tensor low = readTensor(archive, eightBitKey("low", i)).unsqueeze(1);
+        const torch::Tensor step = readTensor(archive, eightBitKey("step", i)).unsqueeze(1);
+        value = (codes.reshape({codes.size(0), -1}).to(torch::kFloat32) * step + low)
+                    .reshape(target.sizes());
+      } else {
+        value = codes;
+      }
+    } else {
+      value = readTensor(archive, eightBitKey("t", i));
+    }
+    if (value.sizes() != target.sizes()) {
+      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + name +
+                                 " has shape " + c10::str(value.sizes()));
+    }
+    target.copy_(value);
+  }
+}
+
+}  // namespace
+
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
-                           const std::string& what, torch::Dtype stored) {
+                           const std::string& what, WeightStorage stored) {
   // Loading replaces each tensor with the stored one whatever its shape: compare the shapes with
   // those the module was built with.
   std::map<std::string, std::vector<int64_t>> expected;
@@ -53,13 +142,17 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
     expected[item.key()] = item.value().sizes().vec();
   for (const auto& item : module.named_buffers()) expected[item.key()] = item.value().sizes().vec();
   try {
+    if (stored == WeightStorage::kUint8) {
+      loadEightBits(module, path, what);
+      return;
+    }
     torch::serialize::InputArchive archive;
     archive.load_from(path);
     // A stored tensor replaces the module's only where their types agree: load in the stored
     // type, then run in float32.
-    if (stored != torch::kFloat32) module.to(stored);
+    if (stored == WeightStorage::kFloat16) module.to(torch::kFloat16);
     module.load(archive);
-    if (stored != torch::kFloat32) module.to(torch::kFloat32);
+    if (stored == WeightStorage::kFloat16) module.to(torch::kFloat32);
   } catch (const c10::Error& error) {
     const std::string message = error.what_without_backtrace();
     throw InvalidArgumentError("model " + path + " is corrupt or does not match " + what + ": " +
@@ -74,27 +167,46 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
 }
 
 namespace {
-constexpr const char* kHalfPrecisionWeights = "float16";
+// The manifest's "weights" for each storage.
+constexpr const char* kFloat32Weights = "float32";
+constexpr const char* kFloat16Weights = "float16";
+constexpr const char* kUint8Weights = "uint8";
 }  // namespace
 
-torch::Dtype storedWeightType(const nlohmann::json& manifest, const std::string& path) {
-  const std::string weights = manifest.value("weights", std::string("float32"));
-  if (weights == "float32") return torch::kFloat32;
-  if (weights == kHalfPrecisionWeights) return torch::kFloat16;
+WeightStorage storedWeights(const nlohmann::json& manifest, const std::string& path) {
+  const std::string weights = manifest.value("weights", std::string(kFloat32Weights));
+  if (weights == kFloat32Weights) return WeightStorage::kFloat32;
+  if (weights == kFloat16Weights) return WeightStorage::kFloat16;
+  if (weights == kUint8Weights) return WeightStorage::kUint8;
   throw InvalidArgumentError("model " + path + ": its manifest's weights \"" + weights +
-                             "\" are neither float32 nor float16");
+                             "\" are none of float32, float16 and uint8");
 }
 
-void saveHalfPrecisionCopy(const std::string& source, const std::string& path) {
+void saveCompactCopy(const std::string& source, const std::string& path, WeightStorage storage) {
+  if (storage == WeightStorage::kFloat32) {
+    throw InvalidArgumentError("compact copy: float32 is the storage of a model as trained");
+  }
   LoadedModel model = loadModel(source);  // refuses a missing or broken source first
   if (std::filesystem::exists(path) && std::filesystem::equivalent(source, path)) {
-    throw InvalidArgumentError("half-precision copy: " + path + " is the source model itself");
+    throw InvalidArgumentError("compact copy: " + path + " is the source model itself");
   }
-  model.network->to(torch::kFloat16);
-  torch::save(model.network, path);
   nlohmann::json manifest = model.manifest;
-  manifest["weights"] = kHalfPrecisionWeights;
-  manifest["half_precision_of"] = source;
+  if (storage == WeightStorage::kFloat16) {
+    model.network->to(torch::kFloat16);
+    torch::save(model.network, path);
+    manifest["weights"] = kFloat16Weights;
+  } else {
+    saveEightBits(*model.network, path);
+    manifest["weights"] = kUint8Weights;
+  }
+  // The model it copies. A source that is itself a copy passes on its own "copy_of" (as
+  // "source_copy_of") or "half_precision_of" (the key of the first float16 copies) as lineage.
+  for (const char* key : {"copy_of", "copy_of_sha256"}) {
+    if (!manifest.contains(key)) continue;
+    manifest[std::string("source_") + key] = manifest.at(key);
+    manifest.erase(key);
+  }
+  manifest["copy_of"] = source;
   manifest["file"] = std::filesystem::path(path).filename().string();
   writeTextFile(manifestPathFor(path), manifest.dump(2) + "\n");
 }
@@ -117,7 +229,7 @@ LoadedModel loadModel(const std::string& path) {
   model.network = MultiTaskUNet(config);
   loadCheckedParameters(*model.network, path,
                         "its manifest's network (" + config.toJson().dump() + ")",
-                        storedWeightType(model.manifest, path));
+                        storedWeights(model.manifest, path));
   model.network->eval();
   return model;
 }

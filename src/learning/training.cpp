@@ -952,7 +952,7 @@ void loadInitialWeights(MultiTaskUNet& network, const TrainingOptions& options,
   init_config.escape_bins = NetworkConfig::fromJson(init_manifest.at("network")).escape_bins;
   const std::string what =
       "the network being trained (" + init_config.toJson().dump() + ", escape-bins head aside)";
-  const torch::Dtype stored = storedWeightType(init_manifest, options.init_from);
+  const WeightStorage stored = storedWeights(init_manifest, options.init_from);
   if (init_config.escape_bins == options.network.escape_bins) {
     loadCheckedParameters(*network, options.init_from, what, stored);
     return;

@@ -47,6 +47,7 @@ struct Arguments {
   std::string versus_dir;  // with --check: a second dataset, and the gap between the two IoUs
   std::string bench_model;
   std::string half_precision_model;  // instead: its float16 copy written to --out
+  std::string eight_bit_model;       // instead: its 8-bit copy written to --out
 };
 
 const OptionTable<Arguments>& argumentTable() {
@@ -92,6 +93,11 @@ const OptionTable<Arguments>& argumentTable() {
           .add("half_precision_copy", &Arguments::half_precision_model,
                OptionSpec("instead: write this model with its weights stored in float16 (half "
                           "the file, for shipping; loaded and run in float32) to --out "
+                          "(NEW.pt, its manifest beside it) and exit"))
+          .add("eight_bit_copy", &Arguments::eight_bit_model,
+               OptionSpec("instead: write this model with each layer's weights stored as 8-bit "
+                          "codes per output channel (a quarter of the file, for shipping; loaded "
+                          "and run in float32, each weight within half a code's step) to --out "
                           "(NEW.pt, its manifest beside it) and exit"));
   return table;
 }
@@ -113,8 +119,11 @@ void checkArguments(const Arguments& args, bool probabilities_given) {
   if (!args.half_precision_model.empty() && args.run_dir.empty()) {
     throw CLI::ValidationError("--half-precision-copy needs --out NEW.pt");
   }
+  if (!args.eight_bit_model.empty() && args.run_dir.empty()) {
+    throw CLI::ValidationError("--eight-bit-copy needs --out NEW.pt");
+  }
   if (args.bench_model.empty() && args.check_model.empty() && args.half_precision_model.empty() &&
-      (args.data_dirs.empty() || args.run_dir.empty())) {
+      args.eight_bit_model.empty() && (args.data_dirs.empty() || args.run_dir.empty())) {
     throw CLI::ValidationError("--data and --out are required");
   }
 }
@@ -418,9 +427,17 @@ int train(const Arguments& args) {
 int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
   if (!args.half_precision_model.empty()) {
-    occlusion_env::learning::saveHalfPrecisionCopy(args.half_precision_model, args.run_dir);
+    occlusion_env::learning::saveCompactCopy(args.half_precision_model, args.run_dir,
+                                             occlusion_env::learning::WeightStorage::kFloat16);
     std::cout << "occlusion_train: wrote " << args.run_dir << " (float16 weights of "
               << args.half_precision_model << ") and its manifest\n";
+    return 0;
+  }
+  if (!args.eight_bit_model.empty()) {
+    occlusion_env::learning::saveCompactCopy(args.eight_bit_model, args.run_dir,
+                                             occlusion_env::learning::WeightStorage::kUint8);
+    std::cout << "occlusion_train: wrote " << args.run_dir << " (8-bit weights of "
+              << args.eight_bit_model << ") and its manifest\n";
     return 0;
   }
   if (!args.check_model.empty()) {
@@ -447,7 +464,7 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, learning::trainingOptionTable(), args.options);
   tools::addOptionFlags(app, argumentTable(), args,
                         {"max_scenes", "check", "montage", "montage_frames", "probabilities",
-                         "versus", "bench_inference", "half_precision_copy"});
+                         "versus", "bench_inference", "half_precision_copy", "eight_bit_copy"});
   app.callback([&args, &app] { checkArguments(args, app.count("--probabilities") > 0); });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

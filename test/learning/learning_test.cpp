@@ -442,12 +442,20 @@ TEST(LearningTest, WarmRestartStartsFromTheGivenModel) {
 
   // From a float16 copy of the source: the source's weights to within float16's rounding.
   const std::string half_source = (source_dir / "half.pt").string();
-  saveHalfPrecisionCopy(source, half_source);
+  saveCompactCopy(source, half_source, WeightStorage::kFloat16);
   TrainingOptions from_half = still;
   from_half.init_from = half_source;
   const fs::path half_dir = temporaryDir("occlusion_env_learning_warm_half");
   train(data, from_half, half_dir.string(), {});
   EXPECT_LT(largestParameterDifference(source, (half_dir / "best.pt").string()), 2e-3);
+  // And from an 8-bit copy: within half a code's step of them.
+  const std::string eight_bit_source = (source_dir / "eight_bit.pt").string();
+  saveCompactCopy(source, eight_bit_source, WeightStorage::kUint8);
+  TrainingOptions from_eight_bits = still;
+  from_eight_bits.init_from = eight_bit_source;
+  const fs::path eight_bit_dir = temporaryDir("occlusion_env_learning_warm_eight_bit");
+  train(data, from_eight_bits, eight_bit_dir.string(), {});
+  EXPECT_LT(largestParameterDifference(source, (eight_bit_dir / "best.pt").string()), 1e-2);
 
   // Resuming needs the same starting model; a model of another network is refused.
   TrainingOptions other_start = warm;
@@ -1683,20 +1691,18 @@ TEST(LearningTest, ARadiusRelativeNetworkSeesAScaledSceneAsTheUnscaledOne) {
   fs::remove_all(dir);
 }
 
-// A model shipped with float16 weights: half the file, loaded and run in float32, its estimate
-// and move those of the float32 model to within float16's rounding (two degrees of the move's
-// direction at most); another stored type is refused, and so is a copy onto its source.
-TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
-  const fs::path dir = temporaryDir("occlusion_env_learning_half_model");
-  fs::create_directories(dir);
-  const std::string source = defaultModelPath(), half = (dir / "half.pt").string();
-  saveHalfPrecisionCopy(source, half);
-  EXPECT_LT(fs::file_size(half), fs::file_size(source) * 0.55);
+// A compact copy of the default model (float16 or 8-bit weights) written to `copy`, loaded and
+// run in float32: its file at most `size_ratio` of the model's, its estimate and its move those
+// of the model to within the storage's rounding (the move's direction within `turn_deg`).
+void expectCompactCopyActsAsTheModel(WeightStorage storage, const std::string& copy,
+                                     double size_ratio, double turn_deg) {
+  const std::string source = defaultModelPath();
+  saveCompactCopy(source, copy, storage);
+  EXPECT_LT(fs::file_size(copy), fs::file_size(source) * size_ratio);
   const auto full_model = std::make_shared<LoadedModel>(loadModel(source));
-  const auto half_model = std::make_shared<LoadedModel>(loadModel(half));
-  EXPECT_EQ(half_model->manifest.at("weights"), "float16");
-  EXPECT_EQ(half_model->manifest.at("half_precision_of"), source);
-  for (const auto& item : half_model->network->named_parameters()) {
+  const auto copied_model = std::make_shared<LoadedModel>(loadModel(copy));
+  EXPECT_EQ(copied_model->manifest.at("copy_of"), source);
+  for (const auto& item : copied_model->network->named_parameters()) {
     ASSERT_EQ(item.value().scalar_type(), torch::kFloat32) << item.key();
   }
 
@@ -1705,31 +1711,40 @@ TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
   Environment environment(options);
   const StepResult start = environment.reset(2);
   const Observation& view = *start.observation;
-  OcclusionEstimator full_estimator(full_model, 0.5), half_estimator(half_model, 0.5);
-  cv::Mat full_mask, half_mask;
+  OcclusionEstimator full_estimator(full_model, 0.5), copied_estimator(copied_model, 0.5);
+  cv::Mat full_mask, copied_mask;
   const OcclusionEstimate full =
       full_estimator.estimate(view.rgb, view.depth, start.info.intrinsics, full_mask);
-  const OcclusionEstimate halved =
-      half_estimator.estimate(view.rgb, view.depth, start.info.intrinsics, half_mask);
+  const OcclusionEstimate copied =
+      copied_estimator.estimate(view.rgb, view.depth, start.info.intrinsics, copied_mask);
   ASSERT_GT(full.occluded_pixels, 0) << "an occluded view";
-  EXPECT_NEAR(halved.mean_probability, full.mean_probability, 2e-3);
-  EXPECT_LE(cv::countNonZero(full_mask != half_mask), full.occluded_pixels / 50);
+  EXPECT_NEAR(copied.mean_probability, full.mean_probability, 2e-3);
+  EXPECT_LE(cv::countNonZero(full_mask != copied_mask), full.occluded_pixels / 50);
   NetworkDirectionAgent full_agent(full_model, DirectionHead::kEscape),
-      half_agent(half_model, DirectionHead::kEscape);
+      copied_agent(copied_model, DirectionHead::kEscape);
   full_agent.reset(1);
-  half_agent.reset(1);
+  copied_agent.reset(1);
   const Action full_move = full_agent.act(rigObservationOf(start));
-  const Action half_move = half_agent.act(rigObservationOf(start));
-  // The move's direction: float16's rounding turns it by about a degree here.
+  const Action copied_move = copied_agent.act(rigObservationOf(start));
   const double turn_rad =
-      std::abs(std::remainder(std::atan2(half_move.d_elevation_rad, half_move.d_azimuth_rad) -
+      std::abs(std::remainder(std::atan2(copied_move.d_elevation_rad, copied_move.d_azimuth_rad) -
                                   std::atan2(full_move.d_elevation_rad, full_move.d_azimuth_rad),
                               2.0 * M_PI));
-  EXPECT_LT(turn_rad, 2.0 * M_PI / 180.0);
+  EXPECT_LT(turn_rad, turn_deg * M_PI / 180.0);
+}
+
+// Float16 weights: half the file; the move turns by about a degree here. Another stored type is
+// refused, and so is a copy onto its source.
+TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
+  const fs::path dir = temporaryDir("occlusion_env_learning_half_model");
+  fs::create_directories(dir);
+  const std::string half = (dir / "half.pt").string();
+  expectCompactCopyActsAsTheModel(WeightStorage::kFloat16, half, 0.55, 2.0);
+  EXPECT_EQ(readManifest(half).at("weights"), "float16");
 
   // The shipped robust network is such a copy, and loads as one.
-  const LoadedModel shipped =
-      loadModel((fs::path(source).parent_path() / "multitask_unet64_robust.pt").string());
+  const LoadedModel shipped = loadModel(
+      (fs::path(defaultModelPath()).parent_path() / "multitask_unet64_robust.pt").string());
   EXPECT_EQ(shipped.manifest.at("weights"), "float16");
   EXPECT_EQ(shipped.network->config().base_channels, 16);
 
@@ -1737,7 +1752,45 @@ TEST(LearningTest, AHalfPrecisionCopyIsHalfTheFileAndEstimatesAsTheModel) {
   manifest["weights"] = "bfloat16";
   std::ofstream((dir / "half.json").string()) << manifest.dump();
   EXPECT_THROW(loadModel(half), InvalidArgumentError);
-  EXPECT_THROW(saveHalfPrecisionCopy(half, half), InvalidArgumentError);
+  EXPECT_THROW(saveCompactCopy(half, half, WeightStorage::kFloat16), InvalidArgumentError);
+  EXPECT_THROW(
+      saveCompactCopy(defaultModelPath(), (dir / "f32.pt").string(), WeightStorage::kFloat32),
+      InvalidArgumentError);
+  fs::remove_all(dir);
+}
+
+// 8-bit weights (per output channel): a little over a quarter of the file, every weight within
+// half a code's step of the model's, the move within a few degrees. A copy whose tensors do not
+// fit the manifest's network is refused as a float32 file is.
+TEST(LearningTest, AnEightBitCopyIsAQuarterOfTheFileAndEstimatesAsTheModel) {
+  const fs::path dir = temporaryDir("occlusion_env_learning_eight_bit_model");
+  fs::create_directories(dir);
+  const std::string copy = (dir / "eight_bit.pt").string();
+  expectCompactCopyActsAsTheModel(WeightStorage::kUint8, copy, 0.3, 4.0);
+  EXPECT_EQ(readManifest(copy).at("weights"), "uint8");
+
+  const LoadedModel source = loadModel(defaultModelPath()), copied = loadModel(copy);
+  const auto copied_parameters = copied.network->named_parameters();
+  for (const auto& item : source.network->named_parameters()) {
+    const torch::Tensor& weights = item.value();
+    const torch::Tensor difference = (copied_parameters[item.key()] - weights).abs();
+    if (weights.dim() < 2) {
+      EXPECT_EQ(difference.max().item<float>(), 0.0f) << item.key() << " is stored as it is";
+      continue;
+    }
+    // Half of each output channel's step, (highest - lowest) / 255, and float rounding.
+    const torch::Tensor rows = weights.reshape({weights.size(0), -1});
+    const torch::Tensor half_step =
+        (std::get<0>(rows.max(1)) - std::get<0>(rows.min(1))) / 510.0 + 1e-6;
+    EXPECT_TRUE(
+        (difference.reshape({weights.size(0), -1}) <= half_step.unsqueeze(1)).all().item<bool>())
+        << item.key();
+  }
+
+  nlohmann::json manifest = readManifest(copy);
+  manifest["network"]["base_channels"] = copied.network->config().base_channels * 2;
+  std::ofstream((dir / "eight_bit.json").string()) << manifest.dump();
+  EXPECT_THROW(loadModel(copy), InvalidArgumentError);
   fs::remove_all(dir);
 }
 

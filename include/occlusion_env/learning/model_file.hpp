@@ -1,8 +1,9 @@
 // A trained network on disk: `<name>.pt` (the parameters and buffers, torch::save) beside
 // `<name>.json` (its NetworkConfig, how it was made and its metrics). Loading checks both and
 // refuses a missing, corrupt or mismatched file with a message that says which. The weights are
-// stored in float32, or in float16 where the manifest says "weights": "float16" (half the file,
-// for shipping a wide network); either way they are loaded and run in float32.
+// stored in float32, or, for shipping a wide network, as the manifest's "weights" says: "float16"
+// (half the file) or "uint8" (a quarter: each layer's weights as 8-bit codes per output channel);
+// however stored, they are loaded and run in float32.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -16,10 +17,13 @@ namespace learning {
 /// Writes `path` (.pt) and its manifest (path with .json) holding `config` and `info`.
 void saveModel(MultiTaskUNet& network, const std::string& path, const nlohmann::json& info);
 
-/// Writes a copy of the model at `source` to `path` with its weights stored in float16, and its
-/// manifest: the source's, with "weights": "float16" and "half_precision_of": `source`. Throws
-/// InvalidArgumentError as loadModel() does, or when `path` is `source`.
-void saveHalfPrecisionCopy(const std::string& source, const std::string& path);
+/// How a model file stores its weights (the manifest's "weights": float32, float16 or uint8).
+enum class WeightStorage { kFloat32, kFloat16, kUint8 };
+
+/// Writes a copy of the model at `source` to `path` with its weights stored as `storage` (float16
+/// or uint8), and its manifest: the source's, with "weights" and "copy_of": `source`. Throws
+/// InvalidArgumentError as loadModel() does, for float32, or when `path` is `source`.
+void saveCompactCopy(const std::string& source, const std::string& path, WeightStorage storage);
 
 struct LoadedModel {
   MultiTaskUNet network{nullptr};
@@ -37,15 +41,15 @@ std::string manifestPathFor(const std::string& model_path);
 /// manifest is missing or the manifest is not JSON.
 nlohmann::json readManifest(const std::string& path);
 
-/// The type the weights of the model at `path` are stored in, from its manifest's "weights"
-/// (absent: float32). Throws InvalidArgumentError for any other than float32 and float16.
-torch::Dtype storedWeightType(const nlohmann::json& manifest, const std::string& path);
+/// How the weights of the model at `path` are stored, from its manifest's "weights" (absent:
+/// float32). Throws InvalidArgumentError for any other than float32, float16 and uint8.
+WeightStorage storedWeights(const nlohmann::json& manifest, const std::string& path);
 
 /// Loads the parameters and buffers saved in `path` into `module`, refusing (InvalidArgumentError
 /// naming `what`) a corrupt file or one whose tensors do not have `module`'s shapes. `stored`:
-/// the floating-point type they were saved in (float32 or float16); `module` ends in float32.
+/// how they were saved; `module` ends in float32.
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
-                           const std::string& what, torch::Dtype stored = torch::kFloat32);
+                           const std::string& what, WeightStorage stored = WeightStorage::kFloat32);
 
 }  // namespace learning
 }  // namespace occlusion_env
