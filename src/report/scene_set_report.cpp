@@ -98,9 +98,11 @@ void writeBridgeTruthCsv(const std::vector<EpisodeRecord>& records,
         << record.steps << ',' << record.success() << ','
         << trulyClear(true_final_px[i], success_threshold_px) << ',' << true_final_px[i] << ',';
     // Where the episode ended: the last pose of its path (empty where it has none).
-    if (!record.path.empty()) csv << record.path.back().azimuth_rad;
-    csv << ',';
-    if (!record.path.empty()) csv << record.path.back().elevation_rad;
+    if (record.path.empty()) {
+      csv << ',';
+    } else {
+      csv << record.path.back().azimuth_rad << ',' << record.path.back().elevation_rad;
+    }
     csv << ',' << toString(record.end) << '\n';
   }
   writeTextFile(path, csv.str());
