@@ -102,6 +102,19 @@ const OptionTable<Arguments>& argumentTable() {
   return table;
 }
 
+// The flags that write a model's compact copy to --out instead of training.
+struct CompactCopyFlag {
+  std::string Arguments::*source;
+  const char* flag;
+  occlusion_env::learning::WeightStorage storage;
+  const char* weights;  // for the message
+};
+const CompactCopyFlag kCompactCopyFlags[] = {
+    {&Arguments::half_precision_model, "--half-precision-copy",
+     occlusion_env::learning::WeightStorage::kFloat16, "float16"},
+    {&Arguments::eight_bit_model, "--eight-bit-copy",
+     occlusion_env::learning::WeightStorage::kUint8, "8-bit"}};
+
 /// The rules between the flags; `probabilities_given`: --probabilities was on the command line
 /// (it has a default, so `args` cannot tell).
 void checkArguments(const Arguments& args, bool probabilities_given) {
@@ -116,14 +129,18 @@ void checkArguments(const Arguments& args, bool probabilities_given) {
       throw CLI::ValidationError(std::string(flag) + " needs --check");
     }
   }
-  if (!args.half_precision_model.empty() && args.run_dir.empty()) {
-    throw CLI::ValidationError("--half-precision-copy needs --out NEW.pt");
+  int copies = 0;
+  for (const CompactCopyFlag& copy : kCompactCopyFlags) {
+    if ((args.*copy.source).empty()) continue;
+    ++copies;
+    if (args.run_dir.empty())
+      throw CLI::ValidationError(std::string(copy.flag) + " needs --out NEW.pt");
   }
-  if (!args.eight_bit_model.empty() && args.run_dir.empty()) {
-    throw CLI::ValidationError("--eight-bit-copy needs --out NEW.pt");
+  if (copies > 1) {
+    throw CLI::ValidationError("--half-precision-copy and --eight-bit-copy: give one of them");
   }
-  if (args.bench_model.empty() && args.check_model.empty() && args.half_precision_model.empty() &&
-      args.eight_bit_model.empty() && (args.data_dirs.empty() || args.run_dir.empty())) {
+  if (args.bench_model.empty() && args.check_model.empty() && copies == 0 &&
+      (args.data_dirs.empty() || args.run_dir.empty())) {
     throw CLI::ValidationError("--data and --out are required");
   }
 }
@@ -426,18 +443,12 @@ int train(const Arguments& args) {
 
 int run(const Arguments& args) {
   if (!args.bench_model.empty()) return benchInference(args.bench_model);
-  if (!args.half_precision_model.empty()) {
-    occlusion_env::learning::saveCompactCopy(args.half_precision_model, args.run_dir,
-                                             occlusion_env::learning::WeightStorage::kFloat16);
-    std::cout << "occlusion_train: wrote " << args.run_dir << " (float16 weights of "
-              << args.half_precision_model << ") and its manifest\n";
-    return 0;
-  }
-  if (!args.eight_bit_model.empty()) {
-    occlusion_env::learning::saveCompactCopy(args.eight_bit_model, args.run_dir,
-                                             occlusion_env::learning::WeightStorage::kUint8);
-    std::cout << "occlusion_train: wrote " << args.run_dir << " (8-bit weights of "
-              << args.eight_bit_model << ") and its manifest\n";
+  for (const CompactCopyFlag& copy : kCompactCopyFlags) {
+    const std::string& source = args.*copy.source;
+    if (source.empty()) continue;
+    occlusion_env::learning::saveCompactCopy(source, args.run_dir, copy.storage);
+    std::cout << "occlusion_train: wrote " << args.run_dir << " (" << copy.weights << " weights of "
+              << source << ") and its manifest\n";
     return 0;
   }
   if (!args.check_model.empty()) {
