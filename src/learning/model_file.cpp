@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
@@ -133,36 +132,92 @@ void loadEightBits(torch::nn::Module& module, const std::string& path, const std
 
 }  // namespace
 
+namespace {
+
+// Whether the storage of `tensor` holds every element its sizes and strides address.
+bool holdsItsElements(const torch::Tensor& tensor) {
+  if (tensor.numel() == 0) return true;
+  int64_t last = tensor.storage_offset();
+  for (int64_t d = 0; d < tensor.dim(); ++d) last += (tensor.size(d) - 1) * tensor.stride(d);
+  return static_cast<int64_t>(tensor.storage().nbytes()) >= (last + 1) * tensor.element_size();
+}
+
+// Copies each tensor `archive` holds for `module` (named `prefix` + its key) into the module's
+// own, converted to the module's type: a float16 file loads into float32, and a counter stays an
+// integer whatever type a file stored it in. (libtorch's Module::load instead makes each tensor
+// view the stored one's memory, keeping its own type: an int64 counter stored as float32 then
+// read 8 bytes from 4.) Mirrors Module::save's layout: a module's parameters and buffers under
+// their keys, each child in an archive of its own.
+void readTensors(torch::nn::Module& module, torch::serialize::InputArchive& archive,
+                 const std::string& prefix, const std::string& path, const std::string& what) {
+  torch::NoGradGuard no_grad;
+  const auto read = [&](const std::string& key, const torch::Tensor& target, bool is_buffer) {
+    if (!target.defined()) return;  // a layer's absent bias
+    torch::Tensor stored;
+    if (!archive.try_read(key, stored, is_buffer) || !stored.defined()) {
+      throw InvalidArgumentError("model " + path + " does not match " + what + ": it has no " +
+                                 prefix + key);
+    }
+    if (stored.sizes() != target.sizes()) {
+      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + prefix + key +
+                                 " has shape " + c10::str(stored.sizes()));
+    }
+    if (!holdsItsElements(stored)) {
+      throw InvalidArgumentError("model " + path + " is corrupt: " + prefix + key +
+                                 " holds fewer bytes than its shape needs");
+    }
+    target.copy_(stored);
+  };
+  for (const auto& item : module.named_parameters(/*recurse=*/false))
+    read(item.key(), item.value(), false);
+  for (const auto& item : module.named_buffers(/*recurse=*/false))
+    read(item.key(), item.value(), true);
+  for (const auto& child : module.named_children()) {
+    if (!child.value()->is_serializable()) continue;
+    torch::serialize::InputArchive child_archive;
+    if (!archive.try_read(child.key(), child_archive)) {
+      throw InvalidArgumentError("model " + path + " does not match " + what + ": it has no " +
+                                 prefix + child.key());
+    }
+    readTensors(*child.value(), child_archive, prefix + child.key() + ".", path, what);
+  }
+}
+
+// Converts the floating-point parameters and buffers of `module` to `type`, leaving integer
+// buffers (BatchNorm's counters) as they are; torch::nn::Module::to converts every tensor.
+void convertFloatingTensors(torch::nn::Module& module, torch::Dtype type) {
+  torch::NoGradGuard no_grad;
+  for (auto& tensor : module.parameters()) {
+    if (tensor.defined() && tensor.is_floating_point()) tensor.set_data(tensor.to(type));
+  }
+  for (auto& tensor : module.buffers()) {
+    if (tensor.defined() && tensor.is_floating_point()) tensor.set_data(tensor.to(type));
+  }
+}
+
+}  // namespace
+
+void readParameters(torch::nn::Module& module, torch::serialize::InputArchive& archive,
+                    const std::string& path, const std::string& what) {
+  readTensors(module, archive, "", path, what);
+}
+
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
                            const std::string& what, WeightStorage stored) {
-  // Loading replaces each tensor with the stored one whatever its shape: compare the shapes with
-  // those the module was built with.
-  std::map<std::string, std::vector<int64_t>> expected;
-  for (const auto& item : module.named_parameters())
-    expected[item.key()] = item.value().sizes().vec();
-  for (const auto& item : module.named_buffers()) expected[item.key()] = item.value().sizes().vec();
+  torch::NoGradGuard no_grad;
   try {
     if (stored == WeightStorage::kUint8) {
       loadEightBits(module, path, what);
       return;
     }
+    // float32 and float16 files alike: each stored tensor is converted to the module's type.
     torch::serialize::InputArchive archive;
     archive.load_from(path);
-    // A stored tensor replaces the module's only where their types agree: load in the stored
-    // type, then run in float32.
-    if (stored == WeightStorage::kFloat16) module.to(torch::kFloat16);
-    module.load(archive);
-    if (stored == WeightStorage::kFloat16) module.to(torch::kFloat32);
+    readParameters(module, archive, path, what);
   } catch (const c10::Error& error) {
     const std::string message = error.what_without_backtrace();
     throw InvalidArgumentError("model " + path + " is corrupt or does not match " + what + ": " +
                                message.substr(0, 300));
-  }
-  for (const auto& item : module.named_parameters()) {
-    if (item.value().sizes().vec() != expected.at(item.key())) {
-      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + item.key() +
-                                 " has shape " + c10::str(item.value().sizes()));
-    }
   }
 }
 
@@ -192,7 +247,7 @@ void saveCompactCopy(const std::string& source, const std::string& path, WeightS
   }
   nlohmann::json manifest = model.manifest;
   if (storage == WeightStorage::kFloat16) {
-    model.network->to(torch::kFloat16);
+    convertFloatingTensors(*model.network, torch::kFloat16);
     torch::save(model.network, path);
     manifest["weights"] = kFloat16Weights;
   } else {

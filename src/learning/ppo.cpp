@@ -941,7 +941,7 @@ class PpoTrainer {
     archive.read("policy", model);
     archive.read("actor_optimizer", actor);
     archive.read("critic_optimizer", critic);
-    policy_->load(model);
+    readParameters(*policy_, model, (dir / "checkpoint.pt").string(), "the policy being trained");
     actor_optimizer_->load(actor);
     critic_optimizer_->load(critic);
     if (backbone_optimizer_) {

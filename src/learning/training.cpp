@@ -1003,7 +1003,7 @@ TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& opti
     torch::serialize::InputArchive model_archive, optimizer_archive;
     archive.read("model", model_archive);
     archive.read("optimizer", optimizer_archive);
-    network->load(model_archive);
+    readParameters(*network, model_archive, files.checkpoint.string(), "the network being trained");
     optimizer.load(optimizer_archive);
     for (const nlohmann::json& epoch : state.at("history"))
       progress.history.push_back(epoch.get<EpochMetrics>());

@@ -1794,6 +1794,81 @@ TEST(LearningTest, AnEightBitCopyIsAQuarterOfTheFileAndEstimatesAsTheModel) {
   fs::remove_all(dir);
 }
 
+// Each tensor keeps the type its network was built with, whatever type a file holds it in:
+// BatchNorm's counters stay int64 through a float16 copy and through training from a network
+// loaded from one. (libtorch's Module::load kept the module's type over the stored memory: a
+// fine-tune from a fine-tune of a float16 file held int64 counters over 4 bytes, and copying it
+// crashed.) A tensor whose stored bytes are fewer than its shape needs is refused by name.
+TEST(LearningTest, ATensorKeepsItsTypeThroughCopiesAndFineTunes) {
+  const fs::path dir = temporaryDir("occlusion_env_learning_tensor_types");
+  fs::create_directories(dir);
+  NetworkConfig config;
+  config.input_size = 32;
+  MultiTaskUNet trained(config);
+  const auto expectBuiltTypes = [&](torch::nn::Module& module, const std::string& from) {
+    MultiTaskUNet built(config);
+    const auto built_tensors = built->named_buffers();
+    int counters = 0;
+    for (const auto& item : module.named_buffers()) {
+      EXPECT_EQ(item.value().scalar_type(), built_tensors[item.key()].scalar_type())
+          << item.key() << " from " << from;
+      if (item.value().scalar_type() == torch::kInt64) ++counters;
+    }
+    EXPECT_GT(counters, 0) << "BatchNorm counts its batches";
+    for (const auto& item : module.named_parameters()) {
+      EXPECT_EQ(item.value().scalar_type(), torch::kFloat32) << item.key() << " from " << from;
+    }
+  };
+  const std::string original = (dir / "original.pt").string();
+  saveModel(trained, original, nlohmann::json::object());
+  const std::string half = (dir / "half.pt").string();
+  saveCompactCopy(original, half, WeightStorage::kFloat16);
+  LoadedModel from_half = loadModel(half);
+  expectBuiltTypes(*from_half.network, half);
+
+  // The chain of a fine-tune from the float16 file, and one from that fine-tune.
+  MultiTaskUNet fine_tuned(config);
+  loadCheckedParameters(*fine_tuned, half, "the network", WeightStorage::kFloat16);
+  const std::string first = (dir / "first.pt").string();
+  saveModel(fine_tuned, first, nlohmann::json::object());
+  MultiTaskUNet again(config);
+  loadCheckedParameters(*again, first, "the network");
+  expectBuiltTypes(*again, first);
+  for (const auto& item : again->named_buffers()) {
+    const torch::Tensor& tensor = item.value();
+    EXPECT_GE(static_cast<int64_t>(tensor.storage().nbytes()),
+              tensor.numel() * static_cast<int64_t>(tensor.element_size()))
+        << item.key();
+  }
+  const std::string second = (dir / "second.pt").string();
+  saveModel(again, second, nlohmann::json::object());
+  const std::string second_half = (dir / "second_half.pt").string();
+  saveCompactCopy(second, second_half, WeightStorage::kFloat16);
+  expectBuiltTypes(*loadModel(second_half).network, second_half);
+
+  // A file whose int64 counter views 4 bytes (as Module::load left one): refused by name.
+  {
+    torch::NoGradGuard no_grad;
+    MultiTaskUNet broken(config);
+    for (auto& item : broken->named_buffers()) {
+      if (item.value().scalar_type() != torch::kInt64) continue;
+      item.value().set_(torch::zeros({}, torch::kFloat32));
+      break;
+    }
+    const std::string broken_path = (dir / "broken.pt").string();
+    saveModel(broken, broken_path, nlohmann::json::object());
+    MultiTaskUNet target(config);
+    try {
+      loadCheckedParameters(*target, broken_path, "the network");
+      ADD_FAILURE() << "a tensor shorter than its shape was read";
+    } catch (const InvalidArgumentError& error) {
+      EXPECT_NE(std::string(error.what()).find("num_batches_tracked"), std::string::npos)
+          << error.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(LearningTest, TheEscapeAgentTurnsAlongAFloorThatStopsItAndThePapersAgentDoesNot) {
   const auto model = constantDirectionModel(-0.95f, 0.3f);  // down, a little to +azimuth
   const cv::Mat rgb(64, 64, CV_8UC3, cv::Scalar(90, 90, 90));

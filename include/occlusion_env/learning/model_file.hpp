@@ -47,9 +47,17 @@ WeightStorage storedWeights(const nlohmann::json& manifest, const std::string& p
 
 /// Loads the parameters and buffers saved in `path` into `module`, refusing (InvalidArgumentError
 /// naming `what`) a corrupt file or one whose tensors do not have `module`'s shapes. `stored`:
-/// how they were saved; `module` ends in float32.
+/// how they were saved; each tensor keeps the type `module` was built with (float32 weights,
+/// integer counters), whatever type the file holds it in.
 void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
                            const std::string& what, WeightStorage stored = WeightStorage::kFloat32);
+
+/// Reads the tensors `archive` holds for `module` (as torch::save(module) wrote them, or an
+/// archive it read into) into the module's own, each converted to the module's type; refuses as
+/// loadCheckedParameters does, naming `path` and `what`. Use it instead of Module::load, which
+/// makes a tensor view the stored one's memory in its own type.
+void readParameters(torch::nn::Module& module, torch::serialize::InputArchive& archive,
+                    const std::string& path, const std::string& what);
 
 }  // namespace learning
 }  // namespace occlusion_env
