@@ -100,6 +100,30 @@ void saveEightBits(const torch::nn::Module& module, const std::string& path) {
   archive.save_to(path);
 }
 
+// Whether the storage of `tensor` holds every element its sizes and strides address.
+bool holdsItsElements(const torch::Tensor& tensor) {
+  if (tensor.numel() == 0) return true;
+  int64_t last = tensor.storage_offset();
+  for (int64_t d = 0; d < tensor.dim(); ++d) last += (tensor.size(d) - 1) * tensor.stride(d);
+  return static_cast<int64_t>(tensor.storage().nbytes()) >= (last + 1) * tensor.element_size();
+}
+
+// Copies `stored`, a file's tensor for the module tensor `name`, into `target`, converted to
+// target's type; refuses (naming `path` and `what`) another shape or fewer stored bytes than the
+// shape needs.
+void copyStoredTensor(const torch::Tensor& target, const torch::Tensor& stored,
+                      const std::string& name, const std::string& path, const std::string& what) {
+  if (stored.sizes() != target.sizes()) {
+    throw InvalidArgumentError("model " + path + " does not match " + what + ": " + name +
+                               " has shape " + c10::str(stored.sizes()));
+  }
+  if (!holdsItsElements(stored)) {
+    throw InvalidArgumentError("model " + path + " is corrupt: " + name +
+                               " holds fewer bytes than its shape needs");
+  }
+  target.copy_(stored);
+}
+
 // Fills every tensor of `module` from an 8-bit file, refusing one whose shapes differ.
 void loadEightBits(torch::nn::Module& module, const std::string& path, const std::string& what) {
   torch::serialize::InputArchive archive;
@@ -122,24 +146,8 @@ void loadEightBits(torch::nn::Module& module, const std::string& path, const std
     } else {
       value = readTensor(archive, eightBitKey("t", i));
     }
-    if (value.sizes() != target.sizes()) {
-      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + name +
-                                 " has shape " + c10::str(value.sizes()));
-    }
-    target.copy_(value);
+    copyStoredTensor(target, value, name, path, what);
   }
-}
-
-}  // namespace
-
-namespace {
-
-// Whether the storage of `tensor` holds every element its sizes and strides address.
-bool holdsItsElements(const torch::Tensor& tensor) {
-  if (tensor.numel() == 0) return true;
-  int64_t last = tensor.storage_offset();
-  for (int64_t d = 0; d < tensor.dim(); ++d) last += (tensor.size(d) - 1) * tensor.stride(d);
-  return static_cast<int64_t>(tensor.storage().nbytes()) >= (last + 1) * tensor.element_size();
 }
 
 // Copies each tensor `archive` holds for `module` (named `prefix` + its key) into the module's
@@ -158,15 +166,7 @@ void readTensors(torch::nn::Module& module, torch::serialize::InputArchive& arch
       throw InvalidArgumentError("model " + path + " does not match " + what + ": it has no " +
                                  prefix + key);
     }
-    if (stored.sizes() != target.sizes()) {
-      throw InvalidArgumentError("model " + path + " does not match " + what + ": " + prefix + key +
-                                 " has shape " + c10::str(stored.sizes()));
-    }
-    if (!holdsItsElements(stored)) {
-      throw InvalidArgumentError("model " + path + " is corrupt: " + prefix + key +
-                                 " holds fewer bytes than its shape needs");
-    }
-    target.copy_(stored);
+    copyStoredTensor(target, stored, prefix + key, path, what);
   };
   for (const auto& item : module.named_parameters(/*recurse=*/false))
     read(item.key(), item.value(), false);
