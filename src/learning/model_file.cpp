@@ -221,6 +221,22 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
   }
 }
 
+void readCheckpoint(const std::string& run_dir, const std::function<void()>& read) {
+  std::string reason;
+  try {
+    read();
+    return;
+  } catch (const c10::Error& error) {
+    reason = error.what_without_backtrace();
+  } catch (const nlohmann::json::exception& error) {
+    reason = error.what();
+  }
+  throw InvalidArgumentError("the checkpoint in " + run_dir + " cannot be read (" +
+                             reason.substr(0, 300) +
+                             "): it is damaged or incomplete; remove its checkpoint files to "
+                             "start the run again, or give another output folder");
+}
+
 namespace {
 // The manifest's "weights" for each storage.
 constexpr const char* kFloat32Weights = "float32";

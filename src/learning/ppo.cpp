@@ -926,41 +926,43 @@ class PpoTrainer {
       trimCsv(dir / "updates.csv", kUpdateHeader, 0);
       return;
     }
-    std::ifstream in(dir / "checkpoint.json");
-    const nlohmann::json state = nlohmann::json::parse(in);
-    nlohmann::json stored = state.at("options");
-    // Checkpoints from before the overlap option collected without overlap.
-    if (!stored.contains("overlap")) stored["overlap"] = false;
-    if (stored != resumeKey(options_)) {
-      throw InvalidArgumentError("the checkpoint in " + run_dir_ +
-                                 " was made with other options (" + stored.dump() +
-                                 "): use another run directory or the same options");
-    }
-    torch::serialize::InputArchive archive, model, actor, critic;
-    archive.load_from((dir / "checkpoint.pt").string());
-    archive.read("policy", model);
-    archive.read("actor_optimizer", actor);
-    archive.read("critic_optimizer", critic);
-    readParameters(*policy_, model, (dir / "checkpoint.pt").string(), "the policy being trained");
-    actor_optimizer_->load(actor);
-    critic_optimizer_->load(critic);
-    if (backbone_optimizer_) {
-      torch::serialize::InputArchive backbone;
-      archive.read("backbone_optimizer", backbone);
-      backbone_optimizer_->load(backbone);
-    }
-    progress_.updates = state.at("updates").get<int>();
-    progress_.env_steps = state.at("env_steps").get<std::int64_t>();
-    progress_.episodes = state.at("episodes").get<std::int64_t>();
-    readStream(state.at("random").get<std::string>(), progress_.random);
-    // Checkpoints from before the environments had streams of their own, or of another count of
-    // environments, keep the streams the seed gives.
-    const nlohmann::json& streams = state.value("environment_random", nlohmann::json::array());
-    if (streams.size() == progress_.environment_random.size()) {
-      for (std::size_t i = 0; i < streams.size(); ++i) {
-        readStream(streams[i].get<std::string>(), progress_.environment_random[i]);
+    readCheckpoint(run_dir_, [&] {
+      std::ifstream in(dir / "checkpoint.json");
+      const nlohmann::json state = nlohmann::json::parse(in);
+      nlohmann::json stored = state.at("options");
+      // Checkpoints from before the overlap option collected without overlap.
+      if (!stored.contains("overlap")) stored["overlap"] = false;
+      if (stored != resumeKey(options_)) {
+        throw InvalidArgumentError("the checkpoint in " + run_dir_ +
+                                   " was made with other options (" + stored.dump() +
+                                   "): use another run directory or the same options");
       }
-    }
+      torch::serialize::InputArchive archive, model, actor, critic;
+      archive.load_from((dir / "checkpoint.pt").string());
+      archive.read("policy", model);
+      archive.read("actor_optimizer", actor);
+      archive.read("critic_optimizer", critic);
+      readParameters(*policy_, model, (dir / "checkpoint.pt").string(), "the policy being trained");
+      actor_optimizer_->load(actor);
+      critic_optimizer_->load(critic);
+      if (backbone_optimizer_) {
+        torch::serialize::InputArchive backbone;
+        archive.read("backbone_optimizer", backbone);
+        backbone_optimizer_->load(backbone);
+      }
+      progress_.updates = state.at("updates").get<int>();
+      progress_.env_steps = state.at("env_steps").get<std::int64_t>();
+      progress_.episodes = state.at("episodes").get<std::int64_t>();
+      readStream(state.at("random").get<std::string>(), progress_.random);
+      // Checkpoints from before the environments had streams of their own, or of another count of
+      // environments, keep the streams the seed gives.
+      const nlohmann::json& streams = state.value("environment_random", nlohmann::json::array());
+      if (streams.size() == progress_.environment_random.size()) {
+        for (std::size_t i = 0; i < streams.size(); ++i) {
+          readStream(streams[i].get<std::string>(), progress_.environment_random[i]);
+        }
+      }
+    });
     trimCsv(dir / kEpisodesCsv, kEpisodeHeader, progress_.episodes);
     trimCsv(dir / "updates.csv", kUpdateHeader, progress_.updates);
   }

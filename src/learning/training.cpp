@@ -992,22 +992,26 @@ TrainingProgress resumeOrStart(MultiTaskUNet& network, torch::optim::AdamW& opti
                                const nlohmann::json& init_manifest) {
   TrainingProgress progress;
   if (fs::exists(files.checkpoint) && fs::exists(files.state)) {
-    std::ifstream in(files.state);
-    const nlohmann::json state = nlohmann::json::parse(in);
-    if (withCanonicalPaths(state.at("identity")) != withCanonicalPaths(identity)) {
-      throw InvalidArgumentError("the checkpoint in " + files.dir.string() +
-                                 " was made with other options or data; use another --out folder");
-    }
-    torch::serialize::InputArchive archive;
-    archive.load_from(files.checkpoint.string());
-    torch::serialize::InputArchive model_archive, optimizer_archive;
-    archive.read("model", model_archive);
-    archive.read("optimizer", optimizer_archive);
-    readParameters(*network, model_archive, files.checkpoint.string(), "the network being trained");
-    optimizer.load(optimizer_archive);
-    for (const nlohmann::json& epoch : state.at("history"))
-      progress.history.push_back(epoch.get<EpochMetrics>());
-    progress.best_iou = state.at("best_iou").get<double>();
+    readCheckpoint(files.dir.string(), [&] {
+      std::ifstream in(files.state);
+      const nlohmann::json state = nlohmann::json::parse(in);
+      if (withCanonicalPaths(state.at("identity")) != withCanonicalPaths(identity)) {
+        throw InvalidArgumentError("the checkpoint in " + files.dir.string() +
+                                   " was made with other options or data; use another --out "
+                                   "folder");
+      }
+      torch::serialize::InputArchive archive;
+      archive.load_from(files.checkpoint.string());
+      torch::serialize::InputArchive model_archive, optimizer_archive;
+      archive.read("model", model_archive);
+      archive.read("optimizer", optimizer_archive);
+      readParameters(*network, model_archive, files.checkpoint.string(),
+                     "the network being trained");
+      optimizer.load(optimizer_archive);
+      for (const nlohmann::json& epoch : state.at("history"))
+        progress.history.push_back(epoch.get<EpochMetrics>());
+      progress.best_iou = state.at("best_iou").get<double>();
+    });
   } else if (!options.init_from.empty()) {
     loadInitialWeights(network, options, init_manifest);
   }

@@ -178,6 +178,25 @@ TEST(LearningTest, TinyTrainingLowersTheLossResumesAndLoads) {
   other.learning_rate = 1e-4;
   EXPECT_THROW(train(data, other, run_dir.string(), {}), InvalidArgumentError);
   EXPECT_TRUE(fs::exists(run_dir / "log.csv"));
+  // A damaged checkpoint (cut short, or its state garbled) is refused by its folder with what to
+  // do, not as libtorch's or JSON's error.
+  const auto expectDamagedRefused = [&](const std::string& file, const std::string& text) {
+    const fs::path damaged = temporaryDir("occlusion_env_learning_damaged");
+    fs::copy(run_dir, damaged, fs::copy_options::recursive);
+    std::ofstream(damaged / file, std::ios::trunc) << text;
+    try {
+      train(data, options, damaged.string(), {});
+      ADD_FAILURE() << "resumed from a damaged " << file;
+    } catch (const InvalidArgumentError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("the checkpoint in " + damaged.string() + " cannot be read"),
+                std::string::npos)
+          << message;
+    }
+    fs::remove_all(damaged);
+  };
+  expectDamagedRefused("checkpoint.pt", "cut short");
+  expectDamagedRefused("checkpoint.json", "{\"identity\": ");
 
   // The best model loads, and the learned agents act on an observation.
   const std::string best = (run_dir / "best.pt").string();

@@ -149,6 +149,16 @@ TEST(PpoTest, ShortTrainingLogsCheckpointsResumesAndRepeatsItself) {
   PpoOptions other = options;
   other.clip_epsilon = 0.3;
   EXPECT_THROW(trainPpo(other, 2, inProcess(), {}, run.string()), InvalidArgumentError);
+  // A damaged checkpoint is refused by its folder, not as libtorch's error.
+  const fs::path damaged = dir / "damaged";
+  fs::copy(run, damaged, fs::copy_options::recursive);
+  std::ofstream(damaged / "checkpoint.pt", std::ios::trunc) << "cut short";
+  try {
+    trainPpo(longer, 2, inProcess(), {}, damaged.string());
+    ADD_FAILURE() << "resumed from a damaged checkpoint";
+  } catch (const InvalidArgumentError& error) {
+    EXPECT_NE(std::string(error.what()).find("cannot be read"), std::string::npos) << error.what();
+  }
 
   // The policy runs as an agent (the generic entry, by path), deterministically.
   Environment environment(smallEnvironment());

@@ -6,6 +6,7 @@
 // however stored, they are loaded and run in float32.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -58,6 +59,12 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
 /// makes a tensor view the stored one's memory in its own type.
 void readParameters(torch::nn::Module& module, torch::serialize::InputArchive& archive,
                     const std::string& path, const std::string& what);
+
+/// Runs `read`, a trainer's reading of the checkpoint in its output folder `run_dir` on resume.
+/// libtorch's and JSON's errors from a damaged or incomplete checkpoint (a run killed while
+/// writing it, a disk that filled) become an InvalidArgumentError naming the folder and what to
+/// do; the trainers' own refusals pass through as they are.
+void readCheckpoint(const std::string& run_dir, const std::function<void()>& read);
 
 }  // namespace learning
 }  // namespace occlusion_env
