@@ -52,7 +52,7 @@ def oracle_steps(path, seeds):
 # The networks bridge_evaluation.launch uses when none is given (its `model` and `agent_model`
 # defaults; test_scripts.py checks that the launch file names them).
 DEFAULT_MODEL = "models/multitask_unet128_bridge_fov60.pt"
-DEFAULT_AGENT_MODEL = "models/multitask_unet64_camera_agent.pt"
+DEFAULT_AGENT_MODEL = "models/multitask_unet64_robust.pt"
 
 
 def main():

@@ -169,8 +169,8 @@ def test_bridge_summaries_name_the_launch_defaults_they_ran(tmp_path):
     command = robustness.bridge_commands([new])[0]
     assert "--model" not in command and "--agent-model" not in command
     row = robustness.bridge_rows([new]).splitlines()[2]
-    assert row.startswith("| agent models/multitask_unet64_camera_agent.pt, "
-                          "bridge models/multitask_unet128_bridge_fov60.pt |")
+    assert row.startswith("| agent %s, bridge %s |" % (bridge_evaluation.DEFAULT_AGENT_MODEL,
+                                                       bridge_evaluation.DEFAULT_MODEL))
     # A probability given on the command line is rerun with it.
     camera = write_bridge_summary(tmp_path / "camera", model="models/multitask_unet64_camera.pt",
                                   model_is_default=False, occlusion_probability=0.1,
