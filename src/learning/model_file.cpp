@@ -45,6 +45,11 @@ nlohmann::json readManifest(const std::string& path) {
 
 namespace {
 
+// A library's error message, cut to a length that reads in one of our messages.
+std::string briefReason(const std::string& message) {
+  return message.substr(0, 300);
+}
+
 // An 8-bit file holds the module's tensors under their index among its parameters and then its
 // buffers ("t<i>"), in the order the module lists them. A floating-point tensor of two or more
 // dimensions (a convolution's or a linear layer's weights) is stored as uint8 codes ("q<i>") with,
@@ -215,26 +220,25 @@ void loadCheckedParameters(torch::nn::Module& module, const std::string& path,
     archive.load_from(path);
     readParameters(module, archive, path, what);
   } catch (const c10::Error& error) {
-    const std::string message = error.what_without_backtrace();
     throw InvalidArgumentError("model " + path + " is corrupt or does not match " + what + ": " +
-                               message.substr(0, 300));
+                               briefReason(error.what_without_backtrace()));
   }
 }
 
 void readCheckpoint(const std::string& run_dir, const std::function<void()>& read) {
-  std::string reason;
+  const auto refuse = [&run_dir](const char* reason) {
+    return InvalidArgumentError("the checkpoint in " + run_dir + " cannot be read (" +
+                                briefReason(reason) +
+                                "): it is damaged or incomplete; remove its checkpoint files to "
+                                "start the run again, or give another output folder");
+  };
   try {
     read();
-    return;
   } catch (const c10::Error& error) {
-    reason = error.what_without_backtrace();
+    throw refuse(error.what_without_backtrace());
   } catch (const nlohmann::json::exception& error) {
-    reason = error.what();
+    throw refuse(error.what());
   }
-  throw InvalidArgumentError("the checkpoint in " + run_dir + " cannot be read (" +
-                             reason.substr(0, 300) +
-                             "): it is damaged or incomplete; remove its checkpoint files to "
-                             "start the run again, or give another output folder");
 }
 
 namespace {
