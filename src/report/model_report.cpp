@@ -1,6 +1,7 @@
 #include "occlusion_env/report/model_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -97,8 +98,8 @@ constexpr const char* kNetworkTableIntro =
     "under the paper's loss on the same data, at the same resolution, for the same number "
     "of epochs, one thread each, one run each; a name with `_bce<X>` adds X times a "
     "pixel-wise cross-entropy to the loss, a further tag more training scenes (the "
-    "manifest lists the datasets; the validation frames are the same). The shipped models: "
-    "the commands in `models/MANIFEST.md`. Training = the run's wall time. "
+    "manifest lists the datasets; the validation frames are the same). Training = the "
+    "run's wall time. "
     "Epoch = best / of; a+b: a warm restart, b more epochs (a new cosine schedule) from "
     "weights trained for a epochs (`--init-from`; the minutes of the runs before first). "
     "Dice = soft Dice loss 1 - (2 sum(p t) + 1) / (sum(p^2) + sum(t^2) + 1), mean over "
@@ -116,6 +117,98 @@ constexpr const char* kNetworkTableIntro =
     "| Model | Variant | Size | Epoch | Training | Dice | Pixel acc | IoU | Gradient MSE | "
     "Gradient angle | Escape MSE | Escape angle "
     "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+
+// A figure of a head, or "-" where the model's validation data had no labels for it (the
+// trainer then writes 0 for both its loss and its angle).
+std::string headFigures(const nlohmann::json& validation, const std::string& head) {
+  const double mse = validation.value("val_" + head + "_mse", 0.0);
+  const double angle = validation.value("val_" + head + "_angle_deg", 0.0);
+  if (mse == 0.0 && angle == 0.0) return "-";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(1) << angle << " deg";
+  return out.str();
+}
+
+// What a shipped network does differently from learning::NetworkConfig's defaults beyond its
+// variant and size: its width and input options (doc/TRAINING.md), the field of view in degrees;
+// "-" for none. (The report keeps libtorch's headers out; a test holds these to NetworkConfig.)
+std::string inputOptions(const nlohmann::json& network) {
+  static const nlohmann::json defaults = {
+      {"variant", nullptr},          {"input_size", nullptr},   {"levels", nullptr},
+      {"base_channels", 8},          {"depth_gaps", "far"},     {"bounding_surfaces", "kept"},
+      {"depth_reference", "metres"}, {"escape_bins", 0},        {"view_crop", 1.0},
+      {"view_field_of_view", 0.0},   {"depth_validity", "none"}};
+  std::ostringstream out;
+  for (const auto& [key, value] : network.items()) {
+    if (defaults.contains(key) && (defaults[key].is_null() || defaults[key] == value)) continue;
+    if (out.tellp() > 0) out << ", ";
+    out << key << " ";
+    if (key == "view_field_of_view" && value.is_number()) {
+      out << std::fixed << std::setprecision(0) << value.get<double>() * 180.0 / M_PI << " deg";
+    } else if (value.is_string()) {
+      out << value.get<std::string>();
+    } else {
+      out << value.dump();
+    }
+  }
+  return out.tellp() > 0 ? out.str() : "-";
+}
+
+// Where a shipped network's figures were measured: a derived copy (scripts/derive_model.py)
+// carries its origin's, else the validation frames of its own datasets.
+std::string validationData(const nlohmann::json& manifest) {
+  const nlohmann::json derived = manifest.value("derived_from", nlohmann::json::object());
+  if (derived.contains("file")) {
+    return "those of `" + fs::path(derived.value("file", "?")).stem().string() +
+           "` (the same weights)";
+  }
+  std::ostringstream out;
+  if (manifest.contains("validation_frames")) {
+    out << manifest.value("validation_frames", 0) << " frames of ";
+  }
+  out << "`" << manifest.value("dataset", "?") << "`";
+  const nlohmann::json extra = manifest.value("extra_datasets", nlohmann::json::array());
+  if (extra.size() == 1) {
+    out << " and `" << extra[0].get<std::string>() << "`";
+  } else if (extra.size() > 1) {
+    out << " and " << extra.size() << " more sets";
+  }
+  return out.str();
+}
+
+// One row of the shipped networks' table.
+void shippedNetworkRow(std::ostringstream& md, const nlohmann::json& manifest) {
+  const nlohmann::json& v = manifest["validation"];
+  const nlohmann::json& net = manifest["network"];
+  const nlohmann::json training = manifest.value("training", nlohmann::json::object());
+  const nlohmann::json start = manifest.value("initialised_from", nlohmann::json::object());
+  const std::string before =
+      start.contains("epoch")
+          ? std::to_string(start.value("epochs_before", start.value("epoch", 0))) + "+"
+          : "";
+  md << std::fixed << "| `" << fs::path(manifest.value("file", "?")).stem().string() << "` | "
+     << net.value("variant", "?") << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "")
+     << " | " << net.value("input_size", 0) << " | " << inputOptions(net) << " | " << before
+     << manifest.value("epoch", 0) << " / " << before << training.value("epochs", 0) << " | "
+     << validationData(manifest) << " | " << std::setprecision(2) << 100.0 * v.value("val_iou", 0.0)
+     << " % | " << headFigures(v, "gradient") << " | " << headFigures(v, "escape") << " |\n";
+}
+
+// The shipped networks' table: each validated on its own data, so not comparable with the rows
+// above nor with one another.
+constexpr const char* kShippedTableIntro =
+    "### The shipped networks\n\n"
+    "The networks in `models/` (what each is for: [models/README.md](models/README.md); the "
+    "command and checksum of each: `models/MANIFEST.md`). Each was validated on the validation "
+    "frames of the data it was trained on, at its own resolution and input, so its figures "
+    "compare with neither the table above nor one another: the robustness section below and "
+    "`occlusion_train --check` measure networks on the same frames. Input: the options of "
+    "its network input beyond RGB-D (doc/TRAINING.md); a copy made by "
+    "`scripts/derive_model.py` keeps its origin's weights and figures. Epoch as above; IoU of "
+    "the occlusion class; angle = mean angular error of the direction heads (\"-\": no such "
+    "labels in its data).\n\n"
+    "| Model | Variant | Size | Input | Epoch | Validation frames | IoU | Gradient angle | "
+    "Escape angle |\n|---|---|---:|---|---:|---|---:|---:|---:|\n";
 
 // The paper's rows of Table 3.
 constexpr const char* kPaperNetworkRows =
@@ -163,12 +256,11 @@ std::string networkSection(const EvalOptions& cl) {
                    fs::path(file).stem().string() + ".png)",
                manifest);
   }
+  md << kPaperNetworkRows << kShippedTableIntro;
   for (const nlohmann::json& manifest : shippedManifests(cl, "multitask_unet")) {
-    if (!manifest.contains("network")) continue;
-    networkRow(md, "shipped `" + fs::path(manifest.value("file", "?")).stem().string() + "`",
-               manifest);
+    if (manifest.contains("network")) shippedNetworkRow(md, manifest);
   }
-  md << kPaperNetworkRows;
+  md << "\n";
   return md.str();
 }
 

@@ -13,6 +13,7 @@
 #include "common/temporary_dir.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/environment.hpp"
+#include "occlusion_env/learning/multitask_unet.hpp"
 #include "occlusion_env/report/eval_options.hpp"
 #include "occlusion_env/report/evaluation_report.hpp"
 #include "occlusion_env/report/model_report.hpp"
@@ -57,7 +58,7 @@ class ManifestTree : public TemporaryDirTest {
   EvalOptions options_;
 };
 
-TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenShippedThenPaper) {
+TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenPaperThenShipped) {
   write(dir_ / "doc" / "training" / "a_sar.json", network("sar_unet", 64, 0.5));
   write(dir_ / "doc" / "training" / "b_unet.json", network("unet", 64, 0.4));
   write(dir_ / "doc" / "training" / "broken.json", "not a manifest");
@@ -65,16 +66,59 @@ TEST_F(ManifestTree, NetworkTableListsTrainedVariantsInPaperOrderThenShippedThen
   const std::string table = networkSection(options_);
   const auto unet = table.find("[b_unet](doc/training/b_unet.png) | unet | 64 | 7 / 10 | 42 min");
   const auto sar = table.find("[a_sar](doc/training/a_sar.png) | sar_unet | 64");
-  const auto shipped = table.find("| shipped `r_unet` | r_unet | 64 |");
   const auto paper = table.find("| paper: Base UNet |");
+  const auto shipped = table.find("| `r_unet` | r_unet | 64 |");
   ASSERT_NE(unet, std::string::npos) << table;
   ASSERT_NE(sar, std::string::npos) << table;
   ASSERT_NE(shipped, std::string::npos) << table;
   ASSERT_NE(paper, std::string::npos) << table;
   EXPECT_LT(unet, sar);
-  EXPECT_LT(sar, shipped);
-  EXPECT_LT(shipped, paper);
+  EXPECT_LT(sar, paper);
+  EXPECT_LT(paper, shipped);
   EXPECT_NE(table.find("| 40.00 % |"), std::string::npos) << table;  // b_unet's IoU
+}
+
+// The shipped networks' rows say where each was validated, what input it reads, and "-" for a
+// head its data had no labels for, not a loss of 0.
+TEST_F(ManifestTree, ShippedNetworksSayWhereTheyWereValidated) {
+  nlohmann::json trained = network("unet", 128, 0.45);
+  trained["file"] = "estimate.pt";
+  trained["dataset"] = "data/rooms";
+  trained["extra_datasets"] = {"data/more_rooms", "data/void"};
+  trained["validation_frames"] = 1811;
+  trained["network"]["depth_gaps"] = "filled";
+  trained["network"]["view_field_of_view"] = 1.0472;
+  trained["validation"]["val_escape_mse"] = 0.0;
+  trained["validation"]["val_escape_angle_deg"] = 0.0;
+  trained["validation"]["val_gradient_mse"] = 0.29;
+  trained["validation"]["val_gradient_angle_deg"] = 24.94;
+  write(dir_ / "models" / "estimate.json", trained);
+  nlohmann::json derived = trained;
+  derived["file"] = "estimate_copy.pt";
+  derived["derived_from"] = {{"file", "estimate.pt"}, {"weights", "unchanged"}};
+  write(dir_ / "models" / "estimate_copy.json", derived);
+  write(dir_ / "models" / "r_unet.json", network("r_unet", 64, 0.6));
+  const std::string table = networkSection(options_);
+  EXPECT_NE(table.find("| `r_unet` | r_unet | 64 | - | 7 / 10 |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| `estimate` | unet | 128 | depth_gaps filled, view_field_of_view 60 deg "
+                       "| 7 / 10 | 1811 frames of `data/rooms` and 2 more sets | 45.00 % | "
+                       "24.9 deg | - |"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("| `estimate_copy` | unet | 128 | depth_gaps filled, view_field_of_view "
+                       "60 deg | 7 / 10 | those of `estimate` (the same weights) |"),
+            std::string::npos)
+      << table;
+}
+
+// The table names only what differs from NetworkConfig's defaults: a manifest stating every
+// default field shows no input options.
+TEST_F(ManifestTree, ShippedNetworksOmitTheNetworksDefaults) {
+  nlohmann::json manifest = network("unet", 64, 0.5);
+  manifest["network"] = learning::NetworkConfig().toJson();
+  write(dir_ / "models" / "defaults.json", manifest);
+  const std::string table = networkSection(options_);
+  EXPECT_NE(table.find("| `unet` | unet | 64 | - | 7 / 10 |"), std::string::npos) << table;
 }
 
 TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {

@@ -10,8 +10,8 @@ namespace occlusion_env {
 namespace report {
 
 /// Table 3 layout (the --networks mode prints it): the variants trained by
-/// scripts/train_table3.sh (options.source_dir/doc/training/*.json) and the shipped models
-/// (options.source_dir/models/*.json), beside the paper's rows.
+/// scripts/train_table3.sh (options.source_dir/doc/training/*.json) beside the paper's rows, then
+/// the shipped models (options.source_dir/models/*.json), each with the data it was validated on.
 std::string networkSection(const EvalOptions& options);
 
 /// The shipped PPO policies (models/*.json of kind ppo_policy): recipe, training length, the end
