@@ -72,6 +72,12 @@ def main():
                         help="the bridge's ~occlusion_threshold [px] (default: config/camera_bridge.yaml's)")
     parser.add_argument("--confirm-views", type=int, default=None,
                         help="the bridge's ~confirm_views (default: config/camera_bridge.yaml's)")
+    parser.add_argument("--second-model", default="",
+                        help="the bridge's ~second_model: a second network whose estimate joins "
+                        "--model's, a view clear only where both see none ('': none)")
+    parser.add_argument("--second-occlusion-probability", type=float, default=None,
+                        help="the bridge's ~second_occlusion_probability (default: "
+                        "config/camera_bridge.yaml's)")
     parser.add_argument("--agent-model", default="",
                         help="the agent's network ('': the shipped default for an agent behind a "
                         "camera)")
@@ -116,6 +122,10 @@ def main():
         command.append("agent_model:=" + os.path.abspath(args.agent_model))
     if args.occlusion_probability is not None:
         command.append("occlusion_probability:=%r" % args.occlusion_probability)
+    if args.second_model:
+        command.append("second_model:=" + os.path.abspath(args.second_model))
+    if args.second_occlusion_probability is not None:
+        command.append("second_occlusion_probability:=%r" % args.second_occlusion_probability)
     if args.occlusion_threshold is not None:
         command.append("occlusion_threshold:=%d" % args.occlusion_threshold)
     if args.confirm_views is not None:
@@ -190,6 +200,11 @@ def main():
                if args.agent_model else DEFAULT_AGENT_MODEL,
                "agent_model_is_default": not args.agent_model,
                "occlusion_probability": args.occlusion_probability,  # None: the config's
+               "occlusion_threshold": args.occlusion_threshold,
+               "confirm_views": args.confirm_views,
+               "second_model": os.path.relpath(os.path.abspath(args.second_model), ROOT)
+               if args.second_model else None,
+               "second_occlusion_probability": args.second_occlusion_probability,
                "truly_clear": clear, "verdict_agrees": agree,
                "mean_steps": statistics.mean(steps), "oracle_mean_steps": statistics.mean(oracle),
                "steps_over_oracle": statistics.mean(steps) / statistics.mean(oracle)}

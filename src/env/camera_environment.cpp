@@ -59,6 +59,11 @@ const OptionTable<CameraEnvironmentOptions>& cameraEnvironmentOptionTable() {
     // The estimate, the stopping rule and the reward.
     made.add("occlusion_probability", &Options::occlusion_probability,
              OptionSpec("a pixel counts as occluded above this probability").above(0).below(1))
+        .add("second_occlusion_probability", &Options::second_occlusion_probability,
+             OptionSpec("with a second network (the bridge's second_model): a pixel counts as "
+                        "occluded above this probability of its map too")
+                 .above(0)
+                 .below(1))
         .add("occlusion_threshold", &Options::occlusion_threshold_px,
              OptionSpec("a view whose estimate is at or below this is clear").unit("px").atLeast(0))
         .add("confirm_views", &Options::confirm_views,
@@ -98,6 +103,20 @@ EpisodeRuleOptions CameraEnvironmentOptions::rule() const {
   rule.max_steps = max_steps;
   rule.confirm_views = confirm_views;
   return rule;
+}
+
+EstimateUnion::EstimateUnion(std::unique_ptr<ViewOcclusionEstimator> first,
+                             std::unique_ptr<ViewOcclusionEstimator> second)
+    : first_(std::move(first)), second_(std::move(second)) {
+  if (!first_ || !second_) throw InvalidArgumentError("EstimateUnion: needs two estimators");
+}
+
+std::int64_t EstimateUnion::estimate(const cv::Mat& rgb, const cv::Mat& depth,
+                                     const CameraIntrinsics& intrinsics, cv::Mat& mask) {
+  first_->estimate(rgb, depth, intrinsics, mask);
+  second_->estimate(rgb, depth, intrinsics, second_mask_);
+  cv::bitwise_or(mask, second_mask_, mask);
+  return cv::countNonZero(mask);
 }
 
 cv::Rect centralSquare(int width, int height) {

@@ -129,14 +129,21 @@ OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat
   return estimate;
 }
 
-std::unique_ptr<NetworkOcclusionEstimator> makeBridgeEstimator(
-    std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options) {
+std::unique_ptr<ViewOcclusionEstimator> makeBridgeEstimator(
+    std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options,
+    std::shared_ptr<LoadedModel> second_model) {
   std::optional<BoundingSurfaceOptions> surfaces;
   if (options.clear_bounding_surfaces) surfaces.emplace();
-  auto estimator = std::make_unique<NetworkOcclusionEstimator>(
-      std::move(model), options.occlusion_probability, surfaces);
-  estimator->setCameraRadius(options.radius_m);
-  return estimator;
+  const auto network = [&](std::shared_ptr<LoadedModel> loaded, double probability) {
+    auto estimator =
+        std::make_unique<NetworkOcclusionEstimator>(std::move(loaded), probability, surfaces);
+    estimator->setCameraRadius(options.radius_m);
+    return estimator;
+  };
+  if (!second_model) return network(std::move(model), options.occlusion_probability);
+  return std::make_unique<EstimateUnion>(
+      network(std::move(model), options.occlusion_probability),
+      network(std::move(second_model), options.second_occlusion_probability));
 }
 
 }  // namespace learning

@@ -95,6 +95,16 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
                      "with --through-bridge: a pixel counts as occluded above this probability "
                      "(the bridge's ~occlusion_probability, chosen for its own network; 0.1 "
                      "was the camera model's)"))
+      .add("bridge_second_model", &O::bridge_second_model,
+           OptionSpec("with --through-bridge: \"\" none; else a second network whose estimate "
+                      "joins the first's, a view clear only where both see no occlusion (the "
+                      "bridge's ~second_model)"))
+      .add(
+          "bridge_second_probability",
+          [](O& o) -> double& { return o.bridge.second_occlusion_probability; },
+          bridgeSpec("second_occlusion_probability",
+                     "with --bridge-second-model: a pixel of its map counts as occluded above "
+                     "this probability (the bridge's ~second_occlusion_probability)"))
       .add(
           "bridge_threshold", [](O& o) -> std::int64_t& { return o.bridge.occlusion_threshold_px; },
           bridgeSpec("occlusion_threshold",
@@ -162,6 +172,9 @@ void EvalOptions::resolve() {
   requireCameraRangesDrawn(camera_ranges, randomize);
   if (!through_bridge.empty() && scenes.empty()) {
     throw InvalidArgumentError("--through-bridge needs --scenes");
+  }
+  if (!bridge_second_model.empty() && through_bridge.empty()) {
+    throw InvalidArgumentError("--bridge-second-model needs --through-bridge");
   }
   if (source_dir.empty()) source_dir = packageShareDirectory();
   if (plot_script.empty()) plot_script = source_dir + "/scripts/plot_evaluation.py";

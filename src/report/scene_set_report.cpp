@@ -143,8 +143,13 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   // The estimate reads depth at the sphere the bridge will work on (the simulator's).
   plan.bridge.radius_m =
       BridgedSimulator::sphereRadius(environmentOptionsFor(plan.scenes, plan.environment));
+  std::shared_ptr<learning::LoadedModel> second;
+  if (!cl.bridge_second_model.empty()) {
+    second = std::make_shared<learning::LoadedModel>(learning::loadModel(cl.bridge_second_model));
+  }
   const auto estimator = learning::makeBridgeEstimator(
-      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge);
+      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge,
+      std::move(second));
   plan.bridge_estimator = estimator.get();
   if (cl.agents.empty()) {  // those that need only what a camera gives
     plan.agents.clear();
@@ -168,7 +173,12 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
            << "of the simulator, network `" << cl.through_bridge << "`, "
            << plan.bridge.confirm_views << " confirming views at probability "
            << plan.bridge.occlusion_probability << " (at most "
-           << plan.bridge.occlusion_threshold_px << " px); truly clear: the simulator's L <= "
+           << plan.bridge.occlusion_threshold_px << " px)";
+  if (!cl.bridge_second_model.empty()) {
+    markdown << ", joined by network `" << cl.bridge_second_model << "` at probability "
+             << plan.bridge.second_occlusion_probability;
+  }
+  markdown << "; truly clear: the simulator's L <= "
            << plan.environment.reward.success_threshold_pixels
            << " px where the episode ended (per episode: `" << name << "_truth.csv`).\n\n"
            << bridgeTable(records, true_final_px, plan.environment.reward.success_threshold_pixels);

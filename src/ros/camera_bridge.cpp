@@ -142,7 +142,11 @@ const OptionTable<CameraBridgeOptions>& cameraBridgeOptionTable() {
         .add("model", &Options::model_path,
              OptionSpec("\"\": occlusion is UNAVAILABLE and only max_steps ends an episode; "
                         "else a multi-task network (.pt with its .json) whose occlusion map is "
-                        "the ESTIMATED occlusion"));
+                        "the ESTIMATED occlusion"))
+        .add("second_model", &Options::second_model_path,
+             OptionSpec("\"\": none; else a second network whose map (at "
+                        "second_occlusion_probability) joins model's: a pixel is occluded where "
+                        "either says so, so a view is clear only where both see none"));
     return made;
   }();
   return table;
@@ -155,6 +159,9 @@ void CameraBridgeOptions::validate() const {
     throw ParameterError(std::string("camera bridge: ") + error.what());
   }
   if (sphere_frame.empty()) throw ParameterError("camera bridge: sphere_frame must not be empty");
+  if (!second_model_path.empty() && model_path.empty()) {
+    throw ParameterError("camera bridge: second_model needs a model: it joins that one's estimate");
+  }
 }
 
 ArrivalTolerance arrivalTolerance(const CameraBridgeOptions& options) {
@@ -184,10 +191,18 @@ namespace {
 // The network of ~model, ParameterError when it cannot be loaded; nullptr without one.
 std::unique_ptr<ViewOcclusionEstimator> estimatorFor(const CameraBridgeOptions& options) {
   if (options.model_path.empty()) return nullptr;
+  const auto load = [](const std::string& parameter, const std::string& path) {
+    try {
+      return std::make_shared<learning::LoadedModel>(learning::loadModel(path));
+    } catch (const std::exception& error) {
+      throw ParameterError("parameter ~" + parameter + ": " + std::string(error.what()));
+    }
+  };
+  std::shared_ptr<learning::LoadedModel> model = load("model", options.model_path);
+  std::shared_ptr<learning::LoadedModel> second;
+  if (!options.second_model_path.empty()) second = load("second_model", options.second_model_path);
   try {
-    return learning::makeBridgeEstimator(
-        std::make_shared<learning::LoadedModel>(learning::loadModel(options.model_path)),
-        options.environment);
+    return learning::makeBridgeEstimator(std::move(model), options.environment, std::move(second));
   } catch (const std::exception& error) {
     throw ParameterError("parameter ~model: " + std::string(error.what()));
   }

@@ -241,5 +241,43 @@ TEST(CameraEnvironment, RefusesOptionsOutsideTheirRangesByName) {
   EXPECT_NO_THROW(CameraEnvironment(CameraEnvironmentOptions(), camera, nullptr));
 }
 
+// An estimate that marks a fixed rectangle of the view (empty: nothing).
+class RectangleEstimate : public ViewOcclusionEstimator {
+ public:
+  explicit RectangleEstimate(cv::Rect occluded) : occluded_(occluded) {}
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat&, const CameraIntrinsics&,
+                        cv::Mat& mask) override {
+    mask.create(rgb.size(), CV_8UC1);
+    mask.setTo(0);
+    mask(occluded_).setTo(255);
+    return occluded_.area();
+  }
+
+ private:
+  cv::Rect occluded_;
+};
+
+// A second opinion: a view is clear only where neither estimate sees occlusion; the mask and the
+// count are the union of both (overlapping rectangles counted once).
+TEST(EstimateUnion, IsClearOnlyWhereBothEstimatesAre) {
+  const cv::Mat rgb(32, 32, CV_8UC3, cv::Scalar::all(0)), depth(32, 32, CV_32FC1, 4.0f);
+  const CameraIntrinsics intrinsics = CameraIntrinsics::fromFieldOfView(32, 32, 1.0);
+  cv::Mat mask;
+  EstimateUnion both_clear(std::make_unique<RectangleEstimate>(cv::Rect()),
+                           std::make_unique<RectangleEstimate>(cv::Rect()));
+  EXPECT_EQ(both_clear.estimate(rgb, depth, intrinsics, mask), 0);
+  EXPECT_EQ(cv::countNonZero(mask), 0);
+  EstimateUnion second_sees(std::make_unique<RectangleEstimate>(cv::Rect()),
+                            std::make_unique<RectangleEstimate>(cv::Rect(4, 4, 2, 3)));
+  EXPECT_EQ(second_sees.estimate(rgb, depth, intrinsics, mask), 6);
+  EXPECT_EQ(mask.at<std::uint8_t>(5, 4), 255);
+  EstimateUnion overlapping(std::make_unique<RectangleEstimate>(cv::Rect(0, 0, 4, 4)),
+                            std::make_unique<RectangleEstimate>(cv::Rect(2, 2, 4, 4)));
+  EXPECT_EQ(overlapping.estimate(rgb, depth, intrinsics, mask), 16 + 16 - 4);
+  EXPECT_EQ(cv::countNonZero(mask), 28);
+  EXPECT_THROW(EstimateUnion(std::make_unique<RectangleEstimate>(cv::Rect()), nullptr),
+               InvalidArgumentError);
+}
+
 }  // namespace
 }  // namespace occlusion_env

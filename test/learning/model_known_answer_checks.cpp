@@ -96,7 +96,7 @@ bool bridgeEstimate() {
 }
 
 std::int64_t estimatedPixels(const cv::Mat& rgb, const cv::Mat& depth, cv::Mat* mask = nullptr) {
-  static const std::unique_ptr<NetworkOcclusionEstimator> bridge = [] {
+  static const std::unique_ptr<ViewOcclusionEstimator> bridge = [] {
     CameraEnvironmentOptions defaults;  // the bridge's (camera_bridge_options_test)
     EXPECT_EQ(defaults.occlusion_probability, kBridgeOcclusionProbability);
     defaults.clear_bounding_surfaces = bridgeEstimate();

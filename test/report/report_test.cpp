@@ -210,6 +210,16 @@ TEST(EvalOptions, TheBridgesStoppingRuleIsTheBridgesDefaultsUnlessGiven) {
   EXPECT_EQ(options.bridge.confirm_views, 3);
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_confirm_views", 0));
   EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_threshold", -1));
+  EXPECT_EQ(options.bridge.second_occlusion_probability, bridge.second_occlusion_probability);
+  evalOptionTable().set(options, "bridge_second_probability", 0.3);
+  EXPECT_EQ(options.bridge.second_occlusion_probability, 0.3);
+  EXPECT_ANY_THROW(evalOptionTable().set(options, "bridge_second_probability", 1.0));
+  // A second opinion joins the bridge's estimate: without --through-bridge it is refused.
+  options.scenes = "config/scenes/validation_sweethome3d.yaml";
+  evalOptionTable().set(options, "bridge_second_model", std::string("second.pt"));
+  EXPECT_THROW(options.resolve(), InvalidArgumentError);
+  options.through_bridge = "first.pt";
+  EXPECT_NO_THROW(options.resolve());
 }
 
 // --field-of-view-range and the other ranges: refused without --randomize, drawn with it.

@@ -77,6 +77,10 @@ TEST(CameraBridgeOptionsTest, SafetyOptionsAreRefusedOutsideTheirRanges) {
   refused([](CameraBridgeOptions& o) { o.environment.working_range_factor = 0.5; },
           "working_range_factor");
   refused([](CameraBridgeOptions& o) { o.settle_time_s = -0.1; }, "settle_time");
+  refused([](CameraBridgeOptions& o) { o.environment.second_occlusion_probability = 1.0; },
+          "second_occlusion_probability");
+  // A second opinion joins a first one; alone it would silently be the only estimate.
+  refused([](CameraBridgeOptions& o) { o.second_model_path = "second.pt"; }, "second_model");
 }
 
 struct LaunchArgument {
@@ -129,7 +133,7 @@ TEST(CameraBridgeLaunch, ArgumentsForTheRobotSideAreDocumentedWithTheConfigsDefa
     EXPECT_NE(argument.doc.find(stated.str()), std::string::npos)
         << name << ": the doc should say " << stated.str() << "...): " << argument.doc;
   }
-  EXPECT_EQ(from_config, 9);
+  EXPECT_EQ(from_config, 10);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -64,6 +65,22 @@ class ViewOcclusionEstimator {
                                 const CameraIntrinsics& intrinsics, cv::Mat& mask) = 0;
 };
 
+/// Two estimators as one: a pixel is occluded where either estimates occlusion, so a view is
+/// clear only where both see none (a second network's opinion: doc/CAMERA_BRIDGE.md, "A second
+/// opinion"). The mask is the union of theirs; no allocation once it is sized. Throws
+/// InvalidArgumentError without both.
+class EstimateUnion : public ViewOcclusionEstimator {
+ public:
+  EstimateUnion(std::unique_ptr<ViewOcclusionEstimator> first,
+                std::unique_ptr<ViewOcclusionEstimator> second);
+  std::int64_t estimate(const cv::Mat& rgb, const cv::Mat& depth,
+                        const CameraIntrinsics& intrinsics, cv::Mat& mask) override;
+
+ private:
+  std::unique_ptr<ViewOcclusionEstimator> first_, second_;
+  cv::Mat second_mask_;  // reused
+};
+
 /// The bridge's options apart from ROS; the defaults are config/camera_bridge.yaml's. The ROS
 /// node's options hold these (ros/camera_bridge.hpp), under the names of
 /// cameraEnvironmentOptionTable().
@@ -83,6 +100,9 @@ struct CameraEnvironmentOptions {
   // For the caller's network: a pixel is occluded above it (chosen for the shipped bridge
   // network by occlusion_bridge_calibration: doc/CAMERA_BRIDGE.md, "The default estimate").
   double occlusion_probability = 0.05;
+  // For the caller's second network, if it has one (EstimateUnion): a pixel of its map is
+  // occluded above this.
+  double second_occlusion_probability = 0.2;
   // For the caller's network: estimated occlusion on a floor or wall (occlusion/
   // bounding_surfaces.hpp) is cleared; such a surface shows no object, so none is hidden there.
   bool clear_bounding_surfaces = true;

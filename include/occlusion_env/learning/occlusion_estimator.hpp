@@ -101,9 +101,11 @@ class NetworkOcclusionEstimator : public ViewOcclusionEstimator {
 
 /// The camera bridge's estimator under `options` (its occlusion_probability,
 /// clear_bounding_surfaces and radius_m): one place for the node, the in-process bridge and the
-/// tools.
-std::unique_ptr<NetworkOcclusionEstimator> makeBridgeEstimator(
-    std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options);
+/// tools. With a `second_model`, the union of both networks' estimates (EstimateUnion), the
+/// second's pixels occluded above options.second_occlusion_probability.
+std::unique_ptr<ViewOcclusionEstimator> makeBridgeEstimator(
+    std::shared_ptr<LoadedModel> model, const CameraEnvironmentOptions& options,
+    std::shared_ptr<LoadedModel> second_model = nullptr);
 
 }  // namespace learning
 }  // namespace occlusion_env

@@ -45,7 +45,8 @@ struct EvalOptions {
   std::optional<std::string> depth_sensor;
   bool randomize = false;
   CameraRandomization camera_ranges;  // with randomize: the ranges the camera is drawn from
-  std::string through_bridge;  // --scenes: "" directly; else through the bridge, this network
+  std::string through_bridge;       // --scenes: "" directly; else through the bridge, this network
+  std::string bridge_second_model;  // with through_bridge: "" none; else the bridge's second_model
   // With through_bridge: the bridge's stopping rule (--bridge-* flags), its defaults the bridge's.
   CameraEnvironmentOptions bridge;
 

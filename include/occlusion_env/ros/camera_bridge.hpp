@@ -62,8 +62,9 @@ struct CameraBridgeOptions {
   double tf_poll_period_s = 0.002;       // how often tf is looked at while the robot moves
 
   // Episodes and what is estimated.
-  std::string scene_service;  // "": none; else a Reset service called at each reset
-  std::string model_path;     // "": no estimate; else a multi-task network model
+  std::string scene_service;      // "": none; else a Reset service called at each reset
+  std::string model_path;         // "": no estimate; else a multi-task network model
+  std::string second_model_path;  // "": none; else a second network: its estimate joins model's
 
   /// Throws ParameterError naming the first bad option (the table's ranges, and a sphere_frame).
   void validate() const;
