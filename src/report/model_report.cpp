@@ -47,6 +47,19 @@ std::vector<nlohmann::json> shippedManifests(const EvalOptions& cl, const std::s
   return manifestsIn(fs::path(cl.source_dir) / "models", kind);
 }
 
+// The Epoch cell, "best / of": a warm restart (--init-from) continues the epochs of the run it
+// started from, written a+b.
+std::string epochCell(const nlohmann::json& manifest) {
+  const nlohmann::json training = manifest.value("training", nlohmann::json::object());
+  const nlohmann::json start = manifest.value("initialised_from", nlohmann::json::object());
+  const std::string before =
+      start.contains("epoch")
+          ? std::to_string(start.value("epochs_before", start.value("epoch", 0))) + "+"
+          : "";
+  return before + std::to_string(manifest.value("epoch", 0)) + " / " + before +
+         std::to_string(training.value("epochs", 0));
+}
+
 // One row of the network table: a model's best-epoch validation figures (its manifest).
 void networkRow(std::ostringstream& md, const std::string& name, const nlohmann::json& manifest) {
   const nlohmann::json& v = manifest["validation"];
@@ -60,14 +73,9 @@ void networkRow(std::ostringstream& md, const std::string& name, const nlohmann:
      << (loss == "smooth_l1" ? "-L1" : "")
      << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "") << " | "
      << net.value("input_size", 0) << " | ";
-  // A warm restart (--init-from) continues the epochs and minutes of the run it started from.
+  md << epochCell(manifest) << " | ";
+  // A warm restart (--init-from) continues the minutes of the run it started from too.
   const nlohmann::json start = manifest.value("initialised_from", nlohmann::json::object());
-  const std::string before =
-      start.contains("epoch")
-          ? std::to_string(start.value("epochs_before", start.value("epoch", 0))) + "+"
-          : "";
-  md << before << manifest.value("epoch", 0) << " / " << before << training.value("epochs", 0)
-     << " | ";
   const nlohmann::json start_run = start.value("run", nlohmann::json::object());
   if (run.contains("minutes") && start_run.contains("minutes")) {
     md << std::setprecision(0) << start_run.value("minutes", 0.0) << "+"
@@ -181,17 +189,12 @@ void shippedNetworkRow(std::ostringstream& md, const nlohmann::json& manifest) {
   const nlohmann::json& v = manifest["validation"];
   const nlohmann::json& net = manifest["network"];
   const nlohmann::json training = manifest.value("training", nlohmann::json::object());
-  const nlohmann::json start = manifest.value("initialised_from", nlohmann::json::object());
-  const std::string before =
-      start.contains("epoch")
-          ? std::to_string(start.value("epochs_before", start.value("epoch", 0))) + "+"
-          : "";
   md << std::fixed << "| `" << fs::path(manifest.value("file", "?")).stem().string() << "` | "
      << net.value("variant", "?") << (training.value("bce_weight", 0.0) > 0.0 ? " +BCE" : "")
-     << " | " << net.value("input_size", 0) << " | " << inputOptions(net) << " | " << before
-     << manifest.value("epoch", 0) << " / " << before << training.value("epochs", 0) << " | "
-     << validationData(manifest) << " | " << std::setprecision(2) << 100.0 * v.value("val_iou", 0.0)
-     << " % | " << headFigures(v, "gradient") << " | " << headFigures(v, "escape") << " |\n";
+     << " | " << net.value("input_size", 0) << " | " << inputOptions(net) << " | "
+     << epochCell(manifest) << " | " << validationData(manifest) << " | " << std::setprecision(2)
+     << 100.0 * v.value("val_iou", 0.0) << " % | " << headFigures(v, "gradient") << " | "
+     << headFigures(v, "escape") << " |\n";
 }
 
 // The shipped networks' table: each validated on its own data, so not comparable with the rows
