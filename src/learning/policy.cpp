@@ -1,5 +1,6 @@
 #include "occlusion_env/learning/policy.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -22,9 +23,14 @@ const OptionTable<PolicyConfig>& policyConfigTable() {
                    .range(1, 4096)
                    .flag(""))
           .add("rig_inputs", &PolicyConfig::rig_inputs,
-               OptionSpec("the heads see the last move and the elevation besides the image "
-                          "features")
+               OptionSpec(
+                   "the heads see the last moves (--move-memory) and the elevation besides the "
+                   "image features")
                    .negatedFlag("--no-rig"))
+          .add("move_memory", &PolicyConfig::move_memory,
+               OptionSpec("how many of the rig's last moves the heads see, newest first (1: the "
+                          "last move alone)")
+                   .range(1, 16))
           .add("unit_mean", &PolicyConfig::unit_mean,
                OptionSpec("scale the mean action to unit length (false: free length, as the "
                           "paper; doc/PPO.md compares them)"))
@@ -58,6 +64,7 @@ nlohmann::json PolicyConfig::toJson() const {
   nlohmann::json json = policyConfigTable().toJson(*this);
   // Only when set, so that runs and policies from before the option keep their identity.
   if (!learned_std) json.erase("learned_std");
+  if (move_memory == 1) json.erase("move_memory");
   if (!isDirections()) {
     for (const char* name : {"action", "directions", "direction_concentration"}) json.erase(name);
   }
@@ -79,15 +86,16 @@ PolicyNetworkImpl::PolicyNetworkImpl(const NetworkConfig& backbone, const Policy
   actor_body_ =
       register_module("actor_body", nn::Sequential(nn::Linear(features, config_.hidden), nn::ReLU(),
                                                    nn::Linear(config_.hidden, 2)));
-  actor_rig_ = register_module("actor_rig", nn::Linear(kRigInputs, 2));
+  const int rig_inputs = config_.rigInputs();
+  actor_rig_ = register_module("actor_rig", nn::Linear(rig_inputs, 2));
   critic_ = register_module(
-      "critic", nn::Sequential(nn::Linear(features + kRigInputs, config_.hidden), nn::Tanh(),
+      "critic", nn::Sequential(nn::Linear(features + rig_inputs, config_.hidden), nn::Tanh(),
                                nn::Linear(config_.hidden, config_.hidden), nn::Tanh(),
                                nn::Linear(config_.hidden, 1)));
   if (config_.learned_std) log_std_ = register_parameter("log_std", torch::zeros({2}));
   if (config_.isDirections()) {
     actor_directions_ =
-        register_module("actor_directions", nn::Linear(features + kRigInputs, config_.directions));
+        register_module("actor_directions", nn::Linear(features + rig_inputs, config_.directions));
     const torch::Tensor angle =
         torch::arange(config_.directions, torch::kDouble) * (2.0 * M_PI / config_.directions);
     direction_vectors_ = register_buffer(
@@ -206,11 +214,29 @@ int sampleDirection(const float* log_probs, int count, double uniform) {
   return k;
 }
 
-void writeRigInput(const Action& last_move, double elevation_rad, float* out) {
-  const double norm = std::hypot(last_move.d_azimuth_rad, last_move.d_elevation_rad);
-  out[0] = norm > 0.0 ? static_cast<float>(last_move.d_azimuth_rad / norm) : 0.0f;
-  out[1] = norm > 0.0 ? static_cast<float>(last_move.d_elevation_rad / norm) : 0.0f;
-  out[2] = static_cast<float>(elevation_rad / (M_PI / 2.0));
+MoveHistory::MoveHistory(int length) : moves_(static_cast<std::size_t>(length)) {
+  if (length < 1) throw InvalidArgumentError("move history: needs room for one move at least");
+}
+
+void MoveHistory::clear() {
+  std::fill(moves_.begin(), moves_.end(), Action{});
+  newest_ = 0;
+}
+
+void MoveHistory::push(const Action& move) {
+  newest_ = (newest_ + 1) % static_cast<int>(moves_.size());
+  moves_[newest_] = move;
+}
+
+void MoveHistory::writeRigInput(double elevation_rad, float* out) const {
+  const int length = static_cast<int>(moves_.size());
+  for (int age = 0; age < length; ++age) {
+    const Action& move = moves_[(newest_ - age + length) % length];
+    const double norm = std::hypot(move.d_azimuth_rad, move.d_elevation_rad);
+    out[2 * age] = norm > 0.0 ? static_cast<float>(move.d_azimuth_rad / norm) : 0.0f;
+    out[2 * age + 1] = norm > 0.0 ? static_cast<float>(move.d_elevation_rad / norm) : 0.0f;
+  }
+  out[2 * length] = static_cast<float>(elevation_rad / (M_PI / 2.0));
 }
 
 void savePolicy(PolicyNetwork& policy, const std::string& path, const nlohmann::json& info) {
@@ -250,6 +276,7 @@ PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
     : policy_(std::move(policy)), sampled_(sampled) {
   if (!policy_ || !policy_->network) throw InvalidArgumentError("policy agent: no policy");
   const PolicyConfig& config = policy_->network->config();
+  moves_ = MoveHistory(config.move_memory);
   if (sampled_ && !config.isDirections()) {
     if (config.learned_std) {
       const torch::Tensor sigma = policy_->network->logStd().detach().exp();
@@ -267,11 +294,11 @@ PolicyAgent::PolicyAgent(std::shared_ptr<LoadedPolicy> policy, bool sampled)
   encoder_ = std::make_unique<InferenceEncoder>(*policy_->network->backbone());
   input_format_ = policy_->network->backbone()->config().inputFormat();
   input_ = torch::empty({1, input_format_.channels(), input_format_.size, input_format_.size});
-  rig_ = torch::zeros({1, kRigInputs});
+  rig_ = torch::zeros({1, config.rigInputs()});
 }
 
 void PolicyAgent::reset(std::uint64_t seed) {
-  last_move_ = Action{};
+  moves_.clear();
   random_.seed(seed);
 }
 
@@ -280,7 +307,7 @@ Action PolicyAgent::act(const RigObservation& observation) {
   writeNetworkInput(observation.rgb, observation.depth, observation.intrinsics,
                     input_format_.atRadius(cameraRadius(observation.world_from_optical)), scratch_,
                     input_.data_ptr<float>());
-  writeRigInput(last_move_, observation.pose.elevation_rad, rig_.data_ptr<float>());
+  moves_.writeRigInput(observation.pose.elevation_rad, rig_.data_ptr<float>());
   torch::InferenceMode inference;
   const torch::Tensor features = encoder_->encode(input_);
   float d_azimuth = 0.0f, d_elevation = 0.0f;
@@ -304,8 +331,9 @@ Action PolicyAgent::act(const RigObservation& observation) {
   if (!std::isfinite(d_azimuth) || !std::isfinite(d_elevation)) {
     throw std::runtime_error("the policy's action is not finite");
   }
-  last_move_ = {d_azimuth, d_elevation};
-  return last_move_;
+  const Action move{d_azimuth, d_elevation};
+  moves_.push(move);
+  return move;
 }
 
 namespace {

@@ -227,10 +227,11 @@ nlohmann::json resumeKey(const PpoOptions& options) {
 // Everything one update's rollout keeps, [T * N] rows in time-major order (row = t * N + i).
 struct Rollout {
   torch::Tensor features, inputs, rig, actions, log_probs, values, rewards, dones;
-  void allocate(int rows, int feature_size, const InputFormat& input, bool keep_inputs) {
+  void allocate(int rows, int feature_size, int rig_inputs, const InputFormat& input,
+                bool keep_inputs) {
     features = torch::zeros({rows, feature_size});
     if (keep_inputs) inputs = torch::zeros({rows, input.channels(), input.size, input.size});
-    rig = torch::zeros({rows, kRigInputs});
+    rig = torch::zeros({rows, rig_inputs});
     actions = torch::zeros({rows, 2});
     log_probs = torch::zeros({rows});
     values = torch::zeros({rows});
@@ -281,8 +282,9 @@ class PpoTrainer {
 
     inputs_ =
         torch::zeros({count_, input_format_.channels(), input_format_.size, input_format_.size});
-    rig_ = torch::zeros({count_, kRigInputs});
+    rig_ = torch::zeros({count_, options_.policy.rigInputs()});
     last_moves_.assign(count_, Action{});
+    move_histories_.assign(count_, MoveHistory(options_.policy.move_memory));
     scratch_.resize(count_);
     episodes_.resize(count_);
     features_ = torch::zeros({count_, policy_->backbone()->config().bottleneckChannels()});
@@ -299,7 +301,8 @@ class PpoTrainer {
     const int steps_per_env = (options_.steps_per_update + count_ - 1) / count_;
     const int feature_size = policy_->backbone()->config().bottleneckChannels();
     Rollout rollout;
-    rollout.allocate(steps_per_env * count_, feature_size, input_format_, options_.fine_tune);
+    rollout.allocate(steps_per_env * count_, feature_size, options_.policy.rigInputs(),
+                     input_format_, options_.fine_tune);
     for (int i = 0; i < count_; ++i) environments_->start(i, resetRequest(i));
     waitFor({0, count_});
     encodeInto({0, count_});
@@ -521,6 +524,7 @@ class PpoTrainer {
     auto chosen = moves.accessor<float, 2>();
     for (int i = group.first; i < group.last; ++i) {
       last_moves_[i] = {chosen[i - group.first][0], chosen[i - group.first][1]};
+      move_histories_[i].push(last_moves_[i]);
     }
   }
 
@@ -610,6 +614,7 @@ class PpoTrainer {
 
   VectorRequest resetRequest(int i) {
     last_moves_[i] = Action{};
+    move_histories_[i].clear();
     episodes_[i] = PpoEpisode{};
     episodes_[i].environment = i;
     episodes_[i].seed = nextSeed(i);
@@ -623,8 +628,8 @@ class PpoTrainer {
     writeNetworkInput(result.observation->rgb, result.observation->depth, result.info.intrinsics,
                       input_format_.atRadius(cameraRadius(result.info.world_from_optical)),
                       scratch_[i], inputs_.data_ptr<float>() + i * plane);
-    writeRigInput(last_moves_[i], result.info.pose.elevation_rad,
-                  rig_.data_ptr<float>() + i * kRigInputs);
+    move_histories_[i].writeRigInput(result.info.pose.elevation_rad,
+                                     rig_.data_ptr<float>() + i * options_.policy.rigInputs());
     if (encode_on_environment_threads_) {
       torch::NoGradGuard no_grad;  // grad mode is per thread
       features_.slice(0, i, i + 1).copy_(featuresOf(inputs_.slice(0, i, i + 1)));
@@ -981,7 +986,8 @@ class PpoTrainer {
   torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i
   std::unique_ptr<InferenceEncoder> frozen_encoder_;  // unless the encoder is fine-tuned
   bool encode_on_environment_threads_ = false;  // observe() fills features_ (one libtorch thread)
-  std::vector<Action> last_moves_;
+  std::vector<Action> last_moves_;              // what environment i steps by next
+  std::vector<MoveHistory> move_histories_;     // environment i's moves this episode, for the rig
   std::vector<InputScratch> scratch_;
   std::vector<PpoEpisode> episodes_;  // in flight, per environment
   std::vector<PpoEpisode> ended_;     // in this update

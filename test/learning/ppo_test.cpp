@@ -321,7 +321,8 @@ TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
   const NetworkOutput out = network->forward(input);
   const torch::Tensor features = policy->features(input);
   EXPECT_TRUE(torch::allclose(features, out.features));
-  const torch::Tensor mean = policy->actionMean(features, torch::zeros({3, kRigInputs}));
+  const torch::Tensor mean =
+      policy->actionMean(features, torch::zeros({3, PolicyConfig().rigInputs()}));
   // (d_azimuth, d_elevation) = (cos, sin) of the escape direction.
   EXPECT_TRUE(torch::allclose(mean.select(1, 0), out.escape_direction.select(1, 1)));
   EXPECT_TRUE(torch::allclose(mean.select(1, 1), out.escape_direction.select(1, 0)));
@@ -330,13 +331,17 @@ TEST(PpoTest, TheActorStartsAsTheEscapeHead) {
   unit_config.unit_mean = true;
   PolicyNetwork unit(config, unit_config);
   unit->initialiseFrom(network, /*actor_from_escape=*/true);
-  const torch::Tensor unit_mean = unit->actionMean(features, torch::zeros({3, kRigInputs}));
+  const torch::Tensor unit_mean =
+      unit->actionMean(features, torch::zeros({3, PolicyConfig().rigInputs()}));
   EXPECT_TRUE(torch::allclose(unit_mean.norm(2, 1), torch::ones({3})));
   EXPECT_TRUE(torch::allclose(unit_mean, mean / mean.norm(2, 1, true), 1e-4, 1e-5));
 
   PolicyNetwork fresh(config, free_mean);
   fresh->initialiseFrom(network, /*actor_from_escape=*/false);
-  EXPECT_LT(fresh->actionMean(features, torch::zeros({3, kRigInputs})).abs().max().item<float>(),
+  EXPECT_LT(fresh->actionMean(features, torch::zeros({3, PolicyConfig().rigInputs()}))
+                .abs()
+                .max()
+                .item<float>(),
             0.5f)
       << "a fresh actor starts near the zero mean";
 }
@@ -351,7 +356,7 @@ TEST(PpoTest, TheDirectionsActionStartsWhereTheEscapeHeadPoints) {
   const torch::Tensor input = torch::randn({4, 4, 32, 32});
   const NetworkOutput out = network->forward(input);
   const torch::Tensor features = policy->features(input);
-  const torch::Tensor rig = torch::zeros({4, kRigInputs});
+  const torch::Tensor rig = torch::zeros({4, directions.rigInputs()});
   const torch::Tensor log_probs = policy->directionLogProbabilities(features, rig);
   ASSERT_EQ(log_probs.sizes(), (std::vector<std::int64_t>{4, 32}));
   EXPECT_TRUE(torch::allclose(log_probs.exp().sum(1), torch::ones({4}), 1e-5, 1e-5));
@@ -570,6 +575,66 @@ TEST(PpoTest, ASeedWithoutASceneIsSkippedNotFatal) {
     return std::make_unique<Environment>(impossible);
   };
   EXPECT_THROW(trainPpo(options, 2, never, {}, (dir / "never").string(), {}), SceneGenerationError);
+  fs::remove_all(dir);
+}
+
+// Memory (issue 28): the rig inputs hold the last m moves, newest first, and nothing before the
+// episode made them; a policy with memory trains, says so in its manifest, loads and acts, while
+// policies without the field keep the last move alone.
+TEST(PpoTest, APolicyWithMemorySeesItsLastMovesTrainsAndActs) {
+  MoveHistory history(2);
+  std::vector<float> rig(5, -9.0f);
+  history.writeRigInput(M_PI / 4.0, rig.data());
+  EXPECT_EQ(rig, (std::vector<float>{0, 0, 0, 0, 0.5f})) << "no move yet";
+  history.push({1.0, 0.0});
+  history.push({0.0, 2.0});
+  history.writeRigInput(0.0, rig.data());
+  EXPECT_EQ(rig, (std::vector<float>{0, 1, 1, 0, 0})) << "newest first, as unit directions";
+  history.push({-3.0, 0.0});
+  history.writeRigInput(0.0, rig.data());
+  EXPECT_EQ(rig, (std::vector<float>{-1, 0, 0, 1, 0})) << "the oldest forgotten";
+  history.clear();
+  history.writeRigInput(0.0, rig.data());
+  EXPECT_EQ(rig, (std::vector<float>(5, 0.0f))) << "an episode's start forgets every move";
+  EXPECT_THROW(MoveHistory(0), InvalidArgumentError);
+
+  EXPECT_EQ(PolicyConfig().rigInputs(), 3);
+  EXPECT_FALSE(PolicyConfig().toJson().contains("move_memory"))
+      << "a policy without memory keeps the identity of the policies before the option";
+  EXPECT_EQ(PolicyConfig::fromJson(nlohmann::json::object()).move_memory, 1);
+  PolicyConfig too_long;
+  too_long.move_memory = 17;
+  EXPECT_THROW(too_long.validate(), InvalidArgumentError);
+
+  const fs::path dir = temporaryDir("occlusion_env_ppo_memory");
+  const std::string backbone = writeBackbone(dir);
+  PpoOptions options = shortRun(backbone);
+  options.policy.move_memory = 3;
+  const fs::path run = dir / "run";
+  PolicyNetwork trained = trainPpo(options, 2, inProcess(), {}, run.string());
+  EXPECT_EQ(trained->config().rigInputs(), 7);
+  {
+    std::ifstream in(run / "policy.json");
+    EXPECT_EQ(nlohmann::json::parse(in).at("policy").at("move_memory"), 3);
+  }
+  // Its rig term learned from the older moves too (it starts at zero).
+  const torch::Tensor older = trained->named_parameters()["actor_rig.weight"].slice(1, 2, 6);
+  EXPECT_GT(older.abs().max().item<float>(), 0.0f);
+  // Without memory the run is another run: its directory is not resumed with memory.
+  PpoOptions without = options;
+  without.policy.move_memory = 1;
+  EXPECT_THROW(trainPpo(without, 2, inProcess(), {}, run.string()), InvalidArgumentError);
+
+  Environment environment(smallEnvironment());
+  const AgentRegistry registry = learningAgents();
+  const auto agent = registry.make("policy", {environment, (run / "policy.pt").string()});
+  agent->reset(1);
+  StepResult result = environment.reset(1000000);
+  for (int step = 0; step < 3 && !result.terminated && !result.truncated; ++step) {
+    const Action move = agent->act(rigObservationOf(result));
+    ASSERT_TRUE(std::isfinite(move.d_azimuth_rad) && std::isfinite(move.d_elevation_rad));
+    result = environment.step(move);
+  }
   fs::remove_all(dir);
 }
 

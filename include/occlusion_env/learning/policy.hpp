@@ -1,13 +1,14 @@
 // The PPO policy of Section 5.3 (Agent-UN / Agent-IN): actor and critic heads on the pooled
 // encoder features of a pretrained multi-task network (learning/multitask_unet.hpp), a Gaussian
 // action on the (azimuth, elevation) plane. Besides the image the heads see what a real rig knows
-// of itself: the direction of its last move and its elevation; never masks, the gradient or the
+// of itself: the directions of its last moves and its elevation; never masks, the gradient or the
 // scene.
 //
 // Policy inputs, written once:
-//   features [B, C]   the backbone's encode() of the RGB-D input (network_input.hpp)
-//   rig      [B, 3]   (cos, sin) of the last move's direction theta = atan2(d_el, d_az), (0, 0)
-//                     before the first move; the camera's elevation / (pi / 2)
+//   features [B, C]       the backbone's encode() of the RGB-D input (network_input.hpp)
+//   rig      [B, 2m + 1]  for each of the last m = PolicyConfig::move_memory moves, newest first,
+//                         (cos, sin) of its direction theta = atan2(d_el, d_az), (0, 0) before
+//                         the episode has made it; then the camera's elevation / (pi / 2)
 // Actor: mean action (d_azimuth, d_elevation) = body(features) + rig_term(rig) (scaled to unit
 // length with unit_mean), where body has
 // the escape head's shape (Linear -> ReLU -> Linear) so that it can start as the escape head
@@ -43,11 +44,12 @@
 namespace occlusion_env {
 namespace learning {
 
-constexpr int kRigInputs = 3;
-
 struct PolicyConfig {
   int hidden = 64;         // width of the actor body's and the critic's hidden layers
   bool rig_inputs = true;  // false: the heads see the image features alone (the paper's)
+  /// How many of the rig's last moves the heads see (issue 28: memory, so that a policy can tell
+  /// it is oscillating); 1 is the last move alone, as policies before the option.
+  int move_memory = 1;
   /// The mean action scaled to unit length, so that sigma alone sets how far samples stray from
   /// it (the environment moves one unit step whatever the length: with a free length a policy
   /// can outgrow its noise instead of improving its direction). false (the paper's, and on our
@@ -62,6 +64,8 @@ struct PolicyConfig {
   double direction_concentration = 8.0;  // kappa, with action directions
 
   bool isDirections() const { return action == "directions"; }
+  /// The width of the rig inputs (above): 2 * move_memory + 1.
+  int rigInputs() const { return 2 * move_memory + 1; }
   /// Throws InvalidArgumentError naming the first option out of its declared range.
   void validate() const;
   /// Every field by its table name (the "policy" of policy manifests).
@@ -122,8 +126,22 @@ TORCH_MODULE(PolicyNetwork);
 /// log-probabilities `log_probs` (inverse transform sampling).
 int sampleDirection(const float* log_probs, int count, double uniform);
 
-/// The rig inputs of one step (see the top of this file) into `out` (3 floats).
-void writeRigInput(const Action& last_move, double elevation_rad, float* out);
+/// The rig's last moves, newest first, as the rig inputs show them (the top of this file): a ring
+/// of fixed length, so that recording a move allocates nothing.
+class MoveHistory {
+ public:
+  explicit MoveHistory(int length = 1);
+  /// Forgets every move (an episode's start).
+  void clear();
+  /// Records the move just made.
+  void push(const Action& move);
+  /// The rig inputs of one step into `out` (2 * length + 1 floats).
+  void writeRigInput(double elevation_rad, float* out) const;
+
+ private:
+  std::vector<Action> moves_;  // moves_[newest_] the last, then backwards around the ring
+  int newest_ = 0;
+};
 
 /// A policy on disk: `<name>.pt` beside `<name>.json` (kind "ppo_policy", the backbone's
 /// NetworkConfig, the PolicyConfig, how it was trained, its metrics).
@@ -157,7 +175,7 @@ class PolicyAgent : public Agent {
   InputFormat input_format_;  // the backbone's (its radius set per view)
   InputScratch scratch_;
   torch::Tensor input_, rig_;
-  Action last_move_;
+  MoveHistory moves_;
 };
 
 /// The shipped policies (models/policy_un.pt, models/policy_in.pt) and the generic entry that
