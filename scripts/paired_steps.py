@@ -5,11 +5,15 @@ failures counted at the step limit, the successes, and the mean paired differenc
 CSV with its standard error (the spread of the per-scene differences / sqrt(n)). Episodes pair
 by scene seed and start azimuth; every CSV must hold the same episodes. With --reference (e.g.
 the oracle's episodes on the same scenes) each mean is also given as a ratio to the reference's.
+With --turn-backs DEG, how often an agent turns back: the moves of its paths (version 2's
+azimuths_rad and elevations_rad, the azimuth step scaled by the cosine of the elevation it starts
+from) that turn more than DEG degrees from the move before, and the episodes that hold one.
 
-Usage: paired_steps.py BASE OTHER [OTHER ...] [--agent NAME] [--reference CSV]
+Usage: paired_steps.py BASE OTHER [OTHER ...] [--agent NAME] [--reference CSV] [--turn-backs DEG]
   BASE, OTHER   episode CSVs or occlusion_eval output folders
   --agent NAME  use this agent's rows (needed when a CSV holds several agents)
   --reference   a CSV or folder whose mean the ratios divide by (its own --agent: the first agent)
+  --turn-backs  the angle [deg] beyond which a move counts as turning back (e.g. 120)
 Prints a Markdown table; exits 1 on unreadable or mismatched input."""
 import argparse
 import csv
@@ -35,8 +39,8 @@ def episode_csv(path):
     return path
 
 
-def counted_steps(path, agent):
-    """{(scene_seed, start_azimuth_rad): (counted steps, success)} of `agent`'s rows."""
+def agent_rows(path, agent):
+    """The rows of `agent` (the CSV's only agent when None) in the episode CSV at `path`."""
     path = episode_csv(path)
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
@@ -47,19 +51,48 @@ def counted_steps(path, agent):
         if len(agents) > 1:
             raise InputError(f"{path} holds several agents ({', '.join(agents)}): give --agent")
         agent = agents[0]
+    rows = [row for row in rows if row["agent"] == agent]
+    if not rows:
+        raise InputError(f"{path}: no episodes of agent {agent!r} (it has {', '.join(agents)})")
+    return path, rows
+
+
+def counted_steps(path, agent):
+    """{(scene_seed, start_azimuth_rad): (counted steps, success)} of `agent`'s rows."""
+    path, rows = agent_rows(path, agent)
     episodes = {}
     for row in rows:
-        if row["agent"] != agent:
-            continue
         success = row["success"] == "1"
         steps = int(row["steps"]) if success else int(row["max_steps"])
         key = (int(row["scene_seed"]), float(row["start_azimuth_rad"]))
         if key in episodes:
             raise InputError(f"{path}: scene {key[0]} at azimuth {key[1]} appears twice")
         episodes[key] = (steps, success)
-    if not episodes:
-        raise InputError(f"{path}: no episodes of agent {agent!r} (it has {', '.join(agents)})")
     return episodes
+
+
+def turn_backs(path, agent, degrees):
+    """(moves turning more than `degrees` from the one before, moves after a first one,
+    episodes holding such a move) over `agent`'s paths."""
+    path, rows = agent_rows(path, agent)
+    limit = math.cos(math.radians(degrees))
+    turned = counted = episodes = 0
+    for row in rows:
+        if not row.get("azimuths_rad") or not row.get("elevations_rad"):
+            raise InputError(f"{path}: --turn-backs needs the paths of version 2's episode CSVs")
+        azimuths = [float(a) for a in row["azimuths_rad"].split(";")]
+        elevations = [float(e) for e in row["elevations_rad"].split(";")]
+        moves = [((azimuths[i + 1] - azimuths[i]) * math.cos(elevations[i]),
+                  elevations[i + 1] - elevations[i]) for i in range(len(azimuths) - 1)]
+        moves = [(x, y) for x, y in moves if math.hypot(x, y) > 0.0]
+        any_turned = False
+        for (x0, y0), (x1, y1) in zip(moves, moves[1:]):
+            counted += 1
+            if (x0 * x1 + y0 * y1) / (math.hypot(x0, y0) * math.hypot(x1, y1)) < limit:
+                turned += 1
+                any_turned = True
+        episodes += any_turned
+    return turned, counted, episodes
 
 
 def standard_error(values):
@@ -74,6 +107,7 @@ def main(argv):
     parser.add_argument("runs", nargs="+")
     parser.add_argument("--agent")
     parser.add_argument("--reference")
+    parser.add_argument("--turn-backs", type=float, metavar="DEG")
     args = parser.parse_args(argv)
     if len(args.runs) < 2:
         parser.error("give a base and at least one other run")
@@ -85,6 +119,8 @@ def main(argv):
             if sorted(episodes) != keys:
                 raise InputError(f"{path} and {args.runs[0]} hold different episodes "
                                  f"({len(episodes)} and {len(keys)}): pairs need the same scenes")
+        turns = ([turn_backs(path, args.agent, args.turn_backs) for path in args.runs]
+                 if args.turn_backs is not None else None)
     except (InputError, KeyError, ValueError) as error:
         print(f"paired_steps.py: {error}", file=sys.stderr)
         return 1
@@ -94,6 +130,9 @@ def main(argv):
     rule = "|---|---:|---:|---:|---:|"
     if reference_mean:
         header += " ratio to the reference |"
+        rule += "---:|"
+    if turns:
+        header += f" moves turning back > {args.turn_backs:g} deg (episodes) |"
         rule += "---:|"
     print(header)
     print(rule)
@@ -108,6 +147,9 @@ def main(argv):
         line = f"| {path} | {len(keys)} | {successes} | {mean(steps):.2f} | {against} |"
         if reference_mean:
             line += f" {mean(steps) / reference_mean:.3f} |"
+        if turns:
+            turned, counted, episodes_turning = turns[index]
+            line += f" {turned} of {counted} ({episodes_turning}) |"
         print(line)
     if reference_mean:
         print(f"\nreference {args.reference}: {reference_mean:.2f} steps")

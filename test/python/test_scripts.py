@@ -1,5 +1,5 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
-scripts/paired_steps.py on episode CSVs written here, scripts/robustness.py on bridge summaries,
+scripts/paired_steps.py on episode CSVs written here (steps, pairs, turning back), scripts/robustness.py on bridge summaries,
 scripts/stopping_rules.py on calibration views written here, scripts/depth_coverage.py on frames
 and scripts/plot_iou_by_radius.py on check files written here."""
 import json
@@ -105,6 +105,28 @@ def test_paired_steps_refuses_different_scenes_and_mixed_agents(tmp_path):
     assert "holds several agents (a, c): give --agent" in result.stderr
     result = paired(mixed, base, "--agent", "a")
     assert result.returncode == 0, result.stderr
+
+
+def test_paired_steps_counts_moves_that_turn_back(tmp_path):
+    # Scene 1 at the equator: east, east, west (180 deg), north (90 deg): one turn back of 3.
+    # Scene 2 at 60 deg elevation: 0.2 rad of azimuth (0.1 on the sphere), then 0.2 rad back
+    # and 0.1 down: 135 deg from the first once the azimuth is scaled (153 deg if it were not).
+    lines = [EPISODE_HEADER,
+             "2,a,s,1,0,50,4,1,0,0.1,success,,0;0.1;0.2;0.1;0.1,0;0;0;0;0.1\n",
+             "2,a,s,2,0,50,2,1,0,0.1,success,,0;0.2;0,1.0471975511965976;1.0471975511965976;"
+             "0.9471975511965976\n"]
+    path = tmp_path / "paths.csv"
+    path.write_text("".join(lines))
+    result = paired(path, path, "--turn-backs", "120")
+    assert result.returncode == 0, result.stderr
+    assert "| moves turning back > 120 deg (episodes) |" in result.stdout
+    assert result.stdout.count("| 2 of 4 (2) |") == 2
+    result = paired(path, path, "--turn-backs", "140")
+    assert result.stdout.count("| 1 of 4 (1) |") == 2, result.stdout
+    without_paths = write_episodes(tmp_path / "no_paths.csv", "a", {1: 4, 2: 2})
+    result = paired(without_paths, path, "--turn-backs", "120")
+    assert result.returncode == 1
+    assert "needs the paths" in result.stderr
 
 
 if __name__ == "__main__":
