@@ -246,6 +246,14 @@ std::vector<nlohmann::json> trainedVariants(const EvalOptions& cl) {
   return runs;
 }
 
+// What a policy's heads see of the rig: "yes" (the last move and the elevation), the moves they
+// remember when more than the last (PolicyConfig::move_memory), or "no".
+std::string rigInputsCell(const nlohmann::json& policy) {
+  if (!policy.value("rig_inputs", false)) return "no";
+  const int moves = policy.value("move_memory", 1);
+  return moves == 1 ? "yes" : "yes, the last " + std::to_string(moves) + " moves";
+}
+
 }  // namespace
 
 std::string networkSection(const EvalOptions& cl) {
@@ -288,11 +296,11 @@ std::string policySection(const EvalOptions& cl) {
     md << std::fixed << "| `" << fs::path(m.value("file", "?")).stem().string() << "` | "
        << t.value("reward", "?") << " | "
        << (t.value("actor_from_escape", false) ? "escape head" : "scratch") << " | "
-       << (t.at("policy").value("rig_inputs", false) ? "yes" : "no") << " | "
-       << m.value("env_steps", 0) << " | " << std::setprecision(1) << end.value("mean_steps", 0.0)
-       << " | " << std::setprecision(0) << 100.0 * end.value("success_rate", 0.0) << " % | "
-       << std::setprecision(1) << v.value("mean_steps", 0.0) << " +/- " << v.value("std_steps", 0.0)
-       << " | " << std::setprecision(0) << 100.0 * v.value("success_rate", 0.0) << " % |\n";
+       << rigInputsCell(t.at("policy")) << " | " << m.value("env_steps", 0) << " | "
+       << std::setprecision(1) << end.value("mean_steps", 0.0) << " | " << std::setprecision(0)
+       << 100.0 * end.value("success_rate", 0.0) << " % | " << std::setprecision(1)
+       << v.value("mean_steps", 0.0) << " +/- " << v.value("std_steps", 0.0) << " | "
+       << std::setprecision(0) << 100.0 * v.value("success_rate", 0.0) << " % |\n";
   }
   md << "\n";
   return md.str();

@@ -136,6 +136,18 @@ TEST_F(ManifestTree, PolicySectionOnlyWithShippedPolicies) {
                          "| 90 % |"),
             std::string::npos)
       << section;
+  write(dir_ / "models" / "policy_y.json",
+        {{"kind", "ppo_policy"},
+         {"file", "policy_y.pt"},
+         {"env_steps", 1000},
+         {"trained_with",
+          {{"reward", "union"}, {"policy", {{"rig_inputs", true}, {"move_memory", 4}}}}},
+         {"training_end", {{"mean_steps", 12.5}, {"success_rate", 0.8}}},
+         {"validation", {{"mean_steps", 10.5}, {"std_steps", 3.0}, {"success_rate", 0.9}}}});
+  EXPECT_NE(
+      policySection(options_).find("| `policy_y` | union | scratch | yes, the last 4 moves |"),
+      std::string::npos)
+      << policySection(options_);
 }
 
 // A summary of episodes that the camera bridge ended says its successes are the bridge's verdicts
