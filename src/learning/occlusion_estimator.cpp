@@ -82,6 +82,20 @@ std::int64_t OcclusionEstimator::occludedPixelsAt(double probability) {
   return cv::countNonZero(other_mask_(inside - last_seen_.tl()));
 }
 
+std::int64_t OcclusionEstimator::occludedPixelsAt(double probability,
+                                                  const cv::Mat& also_occluded) {
+  const std::int64_t own = occludedPixelsAt(probability);
+  if (also_occluded.size() != last_image_size_ || also_occluded.type() != CV_8UC1) {
+    throw InvalidArgumentError("occlusion estimator: the other estimate's mask must be CV_8UC1 " +
+                               std::to_string(last_image_size_.width) + "x" +
+                               std::to_string(last_image_size_.height) + ", as the image");
+  }
+  // Counted once where both see occlusion; outside the seen part only the other's count.
+  const cv::Rect inside = last_seen_ & cv::Rect(cv::Point(0, 0), last_image_size_);
+  cv::bitwise_and(other_mask_(inside - last_seen_.tl()), also_occluded(inside), both_mask_);
+  return own + cv::countNonZero(also_occluded) - cv::countNonZero(both_mask_);
+}
+
 OcclusionEstimate OcclusionEstimator::estimate(const cv::Mat& rgb, const cv::Mat& depth,
                                                const CameraIntrinsics& intrinsics, cv::Mat& mask) {
   const int size = model_->network->config().input_size;

@@ -3,7 +3,8 @@
 // network's estimated occlusion falls to ~occlusion_threshold pixels or fewer. This tool runs an
 // agent on simulated scenes without the truth's stop, estimates the occlusion of every view as
 // the bridge does, and prints for each candidate threshold how often the episode would have
-// stopped on a view that is truly clear, stopped too early, or run to the step limit.
+// stopped on a view that is truly clear, stopped too early, or run to the step limit. With
+// --second-model, as the bridge's ~second_model: each view's estimate is the union of both maps.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
 #include <cmath>
@@ -37,8 +38,10 @@ const occlusion_env::CameraEnvironmentOptions kBridge;  // the camera bridge's d
 struct Arguments {
   occlusion_env::EnvironmentOptions options;
   std::string agent = "predicted_escape";
-  std::string model;        // the shipped network for depth cameras unless given
-  std::string agent_model;  // "": the estimate's network
+  std::string model;         // the shipped network for depth cameras unless given
+  std::string agent_model;   // "": the estimate's network
+  std::string second_model;  // "": no second opinion (the bridge's ~second_model)
+  double second_probability = kBridge.second_occlusion_probability;
   int scenes = 50;
   long long first_seed = 900000;
   // The candidates start with the bridge's default rule (CameraEnvironmentOptions).
@@ -67,6 +70,14 @@ const OptionTable<Arguments>& argumentTable() {
           .add("agent_model", &Arguments::agent_model,
                OptionSpec("the agent's network, if another than the estimate's (as the camera "
                           "bridge's and the agent node's in bridge_evaluation.launch)"))
+          .add("second_model", &Arguments::second_model,
+               OptionSpec("a second network whose map joins the estimate's at "
+                          "--second-probability, as the bridge's ~second_model: a view counts as "
+                          "clear only where both see none (\"\": none)"))
+          .add("second_probability", &Arguments::second_probability,
+               OptionSpec("with --second-model: its map's ~second_occlusion_probability; the "
+                          "candidate probabilities are the first network's")
+                   .range(1e-6, 1.0 - 1e-6))
           .add("scenes", &Arguments::scenes, OptionSpec("number of scenes").range(1, 100000))
           .add("first_seed", &Arguments::first_seed,
                OptionSpec("the first seed (validation range 900,000-999,999)").range(0, 999999))
@@ -89,8 +100,8 @@ const OptionTable<Arguments>& argumentTable() {
                OptionSpec("image width and height").unit("px").range(64, 1024))
           .add("views_csv", &Arguments::views_csv,
                OptionSpec("also write every view (seed, step, the true occlusion and the "
-                          "estimate at each probability, in px) to this CSV file, to study "
-                          "other stopping rules"));
+                          "estimate at each probability, in px; with --second-model the "
+                          "union's) to this CSV file, to study other stopping rules"));
   return table;
 }
 
@@ -151,7 +162,13 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
   if (args.clear_bounding_surfaces) surfaces.emplace();
   // One pass of the network per view; each probability's count from its map.
   learning::OcclusionEstimator estimator(model, args.probabilities.front(), surfaces);
-  cv::Mat mask, depth_16u, depth_mm;
+  // The second opinion's map at its one probability, joined to each of the first's.
+  std::optional<learning::OcclusionEstimator> second;
+  if (!args.second_model.empty()) {
+    second.emplace(std::make_shared<learning::LoadedModel>(learning::loadModel(args.second_model)),
+                   args.second_probability, surfaces);
+  }
+  cv::Mat mask, second_mask, depth_16u, depth_mm;
   std::vector<std::vector<View>> views(args.scenes);
   for (int scene = 0; scene < args.scenes; ++scene) {
     const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
@@ -169,10 +186,17 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
       }
       View view;
       view.true_pixels = info.occlusion.total_pixels;
-      estimator.setCameraRadius(learning::cameraRadius(info.world_from_optical));
+      const double radius_m = learning::cameraRadius(info.world_from_optical);
+      estimator.setCameraRadius(radius_m);
       estimator.estimate(observation.rgb, observation.depth, info.intrinsics, mask);
+      if (second) {
+        second->setCameraRadius(radius_m);
+        second->estimate(observation.rgb, observation.depth, info.intrinsics, second_mask);
+      }
       for (const double probability : args.probabilities) {
-        view.estimated_pixels.push_back(estimator.occludedPixelsAt(probability));
+        view.estimated_pixels.push_back(second
+                                            ? estimator.occludedPixelsAt(probability, second_mask)
+                                            : estimator.occludedPixelsAt(probability));
       }
       views[scene].push_back(view);
       if (t == options.max_steps) break;
@@ -202,8 +226,12 @@ void printHeader(const Arguments& args, const std::vector<std::vector<View>>& vi
             << " px, " << args.options.world.world << ", depth " << args.options.sensor.depth_sensor
             << (args.millimetre_depth ? ", depth in millimetres" : "") << "), " << max_steps
             << " steps at most\n"
-            << "estimate: " << args.model << "\n"
-            << "agent's network: " << (args.agent_model.empty() ? args.model : args.agent_model)
+            << "estimate: " << args.model << "\n";
+  if (!args.second_model.empty()) {
+    std::cout << "joined by: " << args.second_model << " at probability " << args.second_probability
+              << " (a view's estimate: the pixels either network calls occluded)\n";
+  }
+  std::cout << "agent's network: " << (args.agent_model.empty() ? args.model : args.agent_model)
             << "\n"
             << "its path passes a truly clear view in " << reached << " of " << args.scenes
             << " scenes, after " << oneDecimal(steps_to_clear / args.scenes)
@@ -283,7 +311,8 @@ int main(int argc, char** argv) {
       "on test scenes.",
       "occlusion_bridge_calibration");
   tools::addOptionFlags(app, argumentTable(), args,
-                        {"agent", "model", "agent_model", "scenes", "first_seed"});
+                        {"agent", "model", "agent_model", "second_model", "second_probability",
+                         "scenes", "first_seed"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options, {"max_steps"});
   tools::addOptionFlags(app, argumentTable(), args,
                         {"thresholds", "probabilities", "confirm_views", "millimetre_depth",
@@ -291,6 +320,11 @@ int main(int argc, char** argv) {
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"catalog_source", "categories", "model_split", "world", "depth_sensor"});
   tools::addOptionFlags(app, argumentTable(), args, {"size"});
-  app.callback([&args] { checkSeeds(args); });
+  app.callback([&app, &args] {
+    checkSeeds(args);
+    if (args.second_model.empty() && app.count("--second-probability") > 0) {
+      throw CLI::ValidationError("--second-probability is the second model's: give --second-model");
+    }
+  });
   return tools::parseAndRun(app, argc, argv, [&args] { return run(args); });
 }

@@ -2068,6 +2068,20 @@ TEST(LearningTest, OccludedPixelsAtAnotherProbabilityAreThatEstimatorsCount) {
     // Thresholds on both sides of the map: a count that ignored its probability would fail.
     EXPECT_GE(counts.size(), 2u) << "every threshold counts alike";
     EXPECT_THROW(one_pass.occludedPixelsAt(1.0), InvalidArgumentError);
+
+    // Joined by a second estimate's map (the bridge's second opinion): each pixel once.
+    cv::Mat second(rgb.size(), CV_8UC1, cv::Scalar(0));
+    second(cv::Rect(0, 0, 64, 96)).setTo(255);  // the left half
+    for (const double probability : {0.01, 0.5, 0.99}) {
+      OcclusionEstimator alone(model, probability, surfaces);
+      alone.estimate(rgb, depth, intrinsics, mask);
+      EXPECT_EQ(one_pass.occludedPixelsAt(probability, second), cv::countNonZero(mask | second))
+          << "probability " << probability << (clearing ? ", cleared" : "");
+    }
+    EXPECT_EQ(one_pass.occludedPixelsAt(0.5, cv::Mat::zeros(rgb.size(), CV_8UC1)),
+              one_pass.occludedPixelsAt(0.5));
+    EXPECT_THROW(one_pass.occludedPixelsAt(0.5, cv::Mat::zeros(10, 10, CV_8UC1)),
+                 InvalidArgumentError);
   }
 }
 

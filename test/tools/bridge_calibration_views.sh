@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # occlusion_bridge_calibration --views-csv: one row per view (the start view and one per step),
-# and the rules the tool prints follow from those rows.
+# and the rules the tool prints follow from those rows; a second opinion joins its map.
 set -euo pipefail
 tool=${1:?usage: bridge_calibration_views.sh TOOL SOURCE_DIR}
 source_dir=${2:?usage: bridge_calibration_views.sh TOOL SOURCE_DIR}
@@ -46,3 +46,28 @@ for (p, threshold, confirm), (clear, never, mean_steps) in printed.items():
         p, threshold, confirm, clear, never, mean_steps)
 print("bridge_calibration_views: 15 views, 8 rules agree")
 PY
+
+# A second opinion (--second-model, as the bridge's ~second_model) joins its map to each
+# probability's: the same network at 0.2 leaves the counts at 0.2 as they were and makes those at
+# 0.5 the counts at 0.2 (a pixel above 0.5 is above 0.2).
+"$tool" --model "$source_dir/models/multitask_unet64.pt" --scenes 3 --max-steps 4 --size 64 \
+    --probabilities 0.2,0.5 --thresholds 0 --confirm-views 1 \
+    --second-model "$source_dir/models/multitask_unet64.pt" --second-probability 0.2 \
+    --views-csv "$work/joined.csv" > "$work/joined.md" 2> "$work/progress.txt"
+grep -q "^joined by: .*multitask_unet64.pt at probability 0.2" "$work/joined.md"
+/usr/bin/python3 - "$work/views.csv" "$work/joined.csv" <<'PY'
+import csv, sys
+alone = list(csv.DictReader(open(sys.argv[1])))
+joined = list(csv.DictReader(open(sys.argv[2])))
+assert [r["true_px"] for r in joined] == [r["true_px"] for r in alone], "other paths"
+assert [r["estimated_px_at_0.2"] for r in joined] == [r["estimated_px_at_0.2"] for r in alone]
+assert [r["estimated_px_at_0.5"] for r in joined] == [r["estimated_px_at_0.2"] for r in alone]
+# Not trivially: the map differs between the two probabilities somewhere.
+assert any(r["estimated_px_at_0.5"] != r["estimated_px_at_0.2"] for r in alone), "a flat map"
+print("bridge_calibration_views: the second opinion joins its map")
+PY
+if "$tool" --model "$source_dir/models/multitask_unet64.pt" --scenes 1 --second-probability 0.3 \
+    > /dev/null 2>&1; then
+  echo "bridge_calibration_views: --second-probability without --second-model was accepted" >&2
+  exit 1
+fi

@@ -48,6 +48,10 @@ class OcclusionEstimator {
   /// they were: several thresholds from one pass of the network. Throws InvalidStateError
   /// before the first estimate() and InvalidArgumentError for a probability outside (0, 1).
   std::int64_t occludedPixelsAt(double probability);
+  /// The same pixels joined by those of `also_occluded` (CV_8UC1 at the last image's size, non-zero
+  /// where another estimate sees occlusion, as EstimateUnion joins two maps), each counted once.
+  /// Throws InvalidArgumentError for a mask of another size or type.
+  std::int64_t occludedPixelsAt(double probability, const cv::Mat& also_occluded);
 
   const LoadedModel& model() const { return *model_; }
   /// The camera's distance from the sphere's centre [m] (4 until set), for a model whose depth
@@ -76,7 +80,7 @@ class OcclusionEstimator {
   torch::Tensor last_logits_;
   cv::Rect last_seen_;
   cv::Size last_image_size_;
-  cv::Mat other_small_mask_, other_mask_;  // occludedPixelsAt()'s, reused
+  cv::Mat other_small_mask_, other_mask_, both_mask_;  // occludedPixelsAt()'s, reused
   cv::Mat seen_depth_, seen_mask_;  // the seen part where it reaches beyond the image, reused
   // With surfaces: the finder, run on the network pixels' mean depths (network_input.hpp).
   std::optional<BoundingSurfaceFinder> surfaces_;
