@@ -283,7 +283,6 @@ class PpoTrainer {
     inputs_ =
         torch::zeros({count_, input_format_.channels(), input_format_.size, input_format_.size});
     rig_ = torch::zeros({count_, options_.policy.rigInputs()});
-    last_moves_.assign(count_, Action{});
     move_histories_.assign(count_, MoveHistory(options_.policy.move_memory));
     scratch_.resize(count_);
     episodes_.resize(count_);
@@ -411,7 +410,7 @@ class PpoTrainer {
       torch::NoGradGuard no_grad;  // grad mode is per thread
       for (int t = 0; t < steps_per_env; ++t) {
         chooseActions(t, {i, i + 1}, std, rollout, inference_seconds[i]);
-        const StepResult result = environment.step(last_moves_[i]);
+        const StepResult result = environment.step(move_histories_[i].last());
         observe(i, result);
         if (bookStep(t, i, result, rollout)) {
           ended[i].push_back({t, episodes_[i]});
@@ -454,12 +453,12 @@ class PpoTrainer {
   void act(int t, const Group& group, const torch::Tensor& std, Rollout& rollout) {
     chooseActions(t, group, std, rollout, inference_seconds_);
     for (int i = group.first; i < group.last; ++i) {
-      environments_->start(i, VectorRequest::stepBy(last_moves_[i]));
+      environments_->start(i, VectorRequest::stepBy(move_histories_[i].last()));
     }
   }
 
   // Samples the actions of `group` from the current features (each environment's noise from its
-  // own stream), stores row t of its environments and their moves in last_moves_. Adds the
+  // own stream), stores row t of its environments and their moves in move_histories_. Adds the
   // networks' time to `inference_seconds`.
   void chooseActions(int t, const Group& group, const torch::Tensor& std, Rollout& rollout,
                      double& inference_seconds) {
@@ -523,8 +522,7 @@ class PpoTrainer {
     rollout.values.index_put_({rows}, values);
     auto chosen = moves.accessor<float, 2>();
     for (int i = group.first; i < group.last; ++i) {
-      last_moves_[i] = {chosen[i - group.first][0], chosen[i - group.first][1]};
-      move_histories_[i].push(last_moves_[i]);
+      move_histories_[i].push({chosen[i - group.first][0], chosen[i - group.first][1]});
     }
   }
 
@@ -613,7 +611,6 @@ class PpoTrainer {
   }
 
   VectorRequest resetRequest(int i) {
-    last_moves_[i] = Action{};
     move_histories_[i].clear();
     episodes_[i] = PpoEpisode{};
     episodes_[i].environment = i;
@@ -986,8 +983,8 @@ class PpoTrainer {
   torch::Tensor features_;      // the encoder's features of inputs_, row i = environment i
   std::unique_ptr<InferenceEncoder> frozen_encoder_;  // unless the encoder is fine-tuned
   bool encode_on_environment_threads_ = false;  // observe() fills features_ (one libtorch thread)
-  std::vector<Action> last_moves_;              // what environment i steps by next
-  std::vector<MoveHistory> move_histories_;     // environment i's moves this episode, for the rig
+  // Environment i's moves this episode: its rig input; the newest is what it steps by next.
+  std::vector<MoveHistory> move_histories_;
   std::vector<InputScratch> scratch_;
   std::vector<PpoEpisode> episodes_;  // in flight, per environment
   std::vector<PpoEpisode> ended_;     // in this update

@@ -135,6 +135,8 @@ class MoveHistory {
   void clear();
   /// Records the move just made.
   void push(const Action& move);
+  /// The newest move (a zero move before the first).
+  const Action& last() const { return moves_[newest_]; }
   /// The rig inputs of one step into `out` (2 * length + 1 floats).
   void writeRigInput(double elevation_rad, float* out) const;
 
