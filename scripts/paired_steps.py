@@ -95,6 +95,23 @@ def turn_backs(path, agent, degrees):
     return turned, counted, episodes
 
 
+# The bins of --spread: (label, lowest difference, highest difference) in steps.
+SPREAD_BINS = [("< 0", -math.inf, -1), ("0", 0, 0), ("+1", 1, 1), ("+2", 2, 2), ("+3", 3, 3),
+               ("+4-5", 4, 5), ("+6-9", 6, 9), ("+10 or more", 10, math.inf)]
+# --spread's "long" scenes: at least this many steps more than the first run's.
+SPREAD_LONG = 4
+
+
+def spread(differences):
+    """(scenes per SPREAD_BINS bin, the share of the summed positive differences held by scenes
+    SPREAD_LONG or more steps apart; NaN when no scene is apart)."""
+    counts = [sum(low <= d <= high for d in differences) for _, low, high in SPREAD_BINS]
+    positive = sum(d for d in differences if d > 0)
+    long_share = (sum(d for d in differences if d >= SPREAD_LONG) / positive
+                  if positive > 0 else float("nan"))
+    return counts, long_share
+
+
 def standard_error(values):
     """Of the mean: the sample standard deviation / sqrt(n)."""
     if len(values) < 2:
@@ -105,21 +122,29 @@ def standard_error(values):
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="+")
-    parser.add_argument("--agent")
+    parser.add_argument("--agent", action="append", default=[])
     parser.add_argument("--reference")
     parser.add_argument("--turn-backs", type=float, metavar="DEG")
+    parser.add_argument("--spread", action="store_true")
     args = parser.parse_args(argv)
     if len(args.runs) < 2:
         parser.error("give a base and at least one other run")
+    if len(args.agent) not in (0, 1, len(args.runs)):
+        parser.error(f"give --agent once, or once per run ({len(args.runs)}), not "
+                     f"{len(args.agent)} times")
+    agents = (args.agent if len(args.agent) == len(args.runs)
+              else args.agent * len(args.runs) if args.agent else [None] * len(args.runs))
     try:
-        runs = [(path, counted_steps(path, args.agent)) for path in args.runs]
+        # Rows are named by the run, and by the agent too when each run has its own.
+        runs = [(f"{path} ({agent})" if len(args.agent) > 1 else path, counted_steps(path, agent))
+                for path, agent in zip(args.runs, agents)]
         reference = counted_steps(args.reference, None) if args.reference else None
         keys = sorted(runs[0][1])
         for path, episodes in runs[1:] + ([(args.reference, reference)] if reference else []):
             if sorted(episodes) != keys:
                 raise InputError(f"{path} and {args.runs[0]} hold different episodes "
                                  f"({len(episodes)} and {len(keys)}): pairs need the same scenes")
-        turns = ([turn_backs(path, args.agent, args.turn_backs) for path in args.runs]
+        turns = ([turn_backs(path, agent, args.turn_backs) for path, agent in zip(args.runs, agents)]
                  if args.turn_backs is not None else None)
     except (InputError, KeyError, ValueError) as error:
         print(f"paired_steps.py: {error}", file=sys.stderr)
@@ -153,6 +178,15 @@ def main(argv):
         print(line)
     if reference_mean:
         print(f"\nreference {args.reference}: {reference_mean:.2f} steps")
+    if args.spread:
+        print(f"\nScenes by their difference to {runs[0][0]} [steps]:\n")
+        print("| run | " + " | ".join(label for label, _, _ in SPREAD_BINS) +
+              f" | of the summed excess, at +{SPREAD_LONG} or more |")
+        print("|---|" + "---:|" * (len(SPREAD_BINS) + 1))
+        for path, episodes in runs[1:]:
+            counts, long_share = spread([episodes[k][0] - b for k, b in zip(keys, base)])
+            share = "-" if math.isnan(long_share) else f"{100 * long_share:.0f} %"
+            print(f"| {path} | " + " | ".join(map(str, counts)) + f" | {share} |")
     return 0
 
 

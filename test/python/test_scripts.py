@@ -1,7 +1,8 @@
 """Scripts that read the tools' output: scripts/rollout_progress.py on a DAgger set made here,
-scripts/paired_steps.py on episode CSVs written here (steps, pairs, turning back), scripts/robustness.py on bridge summaries,
-scripts/stopping_rules.py on calibration views written here, scripts/depth_coverage.py on frames
-and scripts/plot_iou_by_radius.py on check files written here."""
+scripts/paired_steps.py on episode CSVs written here (steps, pairs, turning back, spread),
+scripts/robustness.py on bridge summaries, scripts/stopping_rules.py on calibration views written
+here, scripts/depth_coverage.py on frames and scripts/plot_iou_by_radius.py on check files written
+here."""
 import json
 import os
 import subprocess
@@ -127,6 +128,22 @@ def test_paired_steps_counts_moves_that_turn_back(tmp_path):
     result = paired(without_paths, path, "--turn-backs", "120")
     assert result.returncode == 1
     assert "needs the paths" in result.stderr
+
+
+def test_paired_steps_spreads_the_differences_and_pairs_two_agents_of_one_csv(tmp_path):
+    # One CSV with both agents. Differences per scene: 0, +1, +2, +6, and a failure at the
+    # limit (50 - 10 = +40): mean +9.80, standard error sqrt(1160.8 / 4) / sqrt(5) = 7.62;
+    # 94 % of the summed excess (46 of 49) at +4 or more.
+    both = write_episodes(tmp_path / "both.csv", "oracle", {1: 5, 2: 5, 3: 5, 4: 5, 5: 10})
+    agent = write_episodes(tmp_path / "agent.csv", "escape", {1: 5, 2: 6, 3: 7, 4: 11, 5: None})
+    both.write_text(both.read_text() + "".join(agent.read_text().splitlines(True)[1:]))
+    result = paired(both, both, "--agent", "oracle", "--agent", "escape", "--spread")
+    assert result.returncode == 0, result.stderr
+    assert f"| {both} (escape) | 5 | 4 | 15.80 | +9.80 ± 7.62 |" in result.stdout
+    assert f"| {both} (escape) | 0 | 1 | 1 | 1 | 0 | 0 | 1 | 1 | 94 % |" in result.stdout
+    result = paired(both, both, both, "--agent", "oracle", "--agent", "escape")
+    assert result.returncode == 2
+    assert "give --agent once, or once per run (3), not 2 times" in result.stderr
 
 
 if __name__ == "__main__":
