@@ -144,7 +144,8 @@ def main(argv):
             if sorted(episodes) != keys:
                 raise InputError(f"{path} and {args.runs[0]} hold different episodes "
                                  f"({len(episodes)} and {len(keys)}): pairs need the same scenes")
-        turns = ([turn_backs(path, agent, args.turn_backs) for path, agent in zip(args.runs, agents)]
+        turns = ([turn_backs(path, agent, args.turn_backs)
+                  for path, agent in zip(args.runs, agents)]
                  if args.turn_backs is not None else None)
     except (InputError, KeyError, ValueError) as error:
         print(f"paired_steps.py: {error}", file=sys.stderr)
