@@ -132,11 +132,11 @@ def main(argv):
     if len(args.agent) not in (0, 1, len(args.runs)):
         parser.error(f"give --agent once, or once per run ({len(args.runs)}), not "
                      f"{len(args.agent)} times")
-    agents = (args.agent if len(args.agent) == len(args.runs)
-              else args.agent * len(args.runs) if args.agent else [None] * len(args.runs))
+    per_run = len(args.agent) == len(args.runs)
+    agents = args.agent if per_run else (args.agent or [None]) * len(args.runs)
     try:
         # Rows are named by the run, and by the agent too when each run has its own.
-        runs = [(f"{path} ({agent})" if len(args.agent) > 1 else path, counted_steps(path, agent))
+        runs = [(f"{path} ({agent})" if per_run else path, counted_steps(path, agent))
                 for path, agent in zip(args.runs, agents)]
         reference = counted_steps(args.reference, None) if args.reference else None
         keys = sorted(runs[0][1])
