@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <torch/utils.h>  // torch::set_num_threads
+
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -70,6 +72,10 @@ void addRunOptions(OptionTable<EvalOptions>& table) {
       .add("max_steps", &O::max_steps,
            OptionSpec("step limit per episode (unset: 50; 2000 for --sweep)").range(1, 1000000))
       .add("limit", &O::limit, OptionSpec("only the first N scenes of the set").range(1, 1000000))
+      .add("threads", &O::threads,
+           OptionSpec("episodes run at once, each worker with its own simulator (GL context), "
+                      "networks and agent; the results and their order are the same as with 1")
+               .range(1, 64))
       .add("sweep_source", &O::sweep_source,
            OptionSpec("object source of the sweep's preset scenes")
                .choices({"embedded", "sweethome3d", "folder"}))
@@ -191,6 +197,10 @@ void EvalOptions::applySceneRandomization(EnvironmentOptions& environment) const
 const AgentRegistry& agentRegistry() {
   static const AgentRegistry agents = learning::learningAgents();
   return agents;
+}
+
+void setInferenceThreads(int worker_threads) {
+  if (worker_threads > 1) torch::set_num_threads(1);
 }
 
 void runPlots(const EvalOptions& cl, std::vector<std::string> plot_args) {

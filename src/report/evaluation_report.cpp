@@ -52,6 +52,10 @@ std::string reportIntroduction(const EvalOptions& cl) {
           "broad priors, 3 chains. With many episodes at the step limit the differences are "
           "bimodal and nu is small; mu then follows the bulk of the differences, so the sample "
           "mean difference is shown beside it.\n\n"
+       << "**Wall time.** " << cl.threads
+       << " episode(s) ran at once (`occlusion_eval --threads`), each worker on a simulator of its "
+          "own; an episode's wall time is its worker's, with the others sharing the cores. The "
+          "episodes themselves do not depend on the worker count.\n\n"
        << "**Through ROS.** The same episodes run through the simulator and agent nodes, "
           "e.g. `roslaunch occlusion_env agent.launch agent:=gradient "
           "scene_set:=$(rospack find occlusion_env)/config/scenes/test_embedded.yaml csv:=/tmp/"

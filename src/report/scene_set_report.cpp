@@ -143,14 +143,18 @@ std::string runThroughBridge(const EvalOptions& cl, EvaluationPlan plan) {
   // The estimate reads depth at the sphere the bridge will work on (the simulator's).
   plan.bridge.radius_m =
       BridgedSimulator::sphereRadius(environmentOptionsFor(plan.scenes, plan.environment));
-  std::shared_ptr<learning::LoadedModel> second;
-  if (!cl.bridge_second_model.empty()) {
-    second = std::make_shared<learning::LoadedModel>(learning::loadModel(cl.bridge_second_model));
-  }
-  const auto estimator = learning::makeBridgeEstimator(
-      std::make_shared<learning::LoadedModel>(learning::loadModel(cl.through_bridge)), plan.bridge,
-      std::move(second));
-  plan.bridge_estimator = estimator.get();
+  // Each worker thread loads its own networks. Loading them here first reports a missing or
+  // corrupt model before any episode.
+  learning::loadModel(cl.through_bridge);
+  if (!cl.bridge_second_model.empty()) learning::loadModel(cl.bridge_second_model);
+  plan.bridge_estimators = [first = cl.through_bridge, second = cl.bridge_second_model,
+                            bridge = plan.bridge] {
+    auto load = [](const std::string& path) {
+      return std::make_shared<learning::LoadedModel>(learning::loadModel(path));
+    };
+    return learning::makeBridgeEstimator(load(first), bridge,
+                                         second.empty() ? nullptr : load(second));
+  };
   if (cl.agents.empty()) {  // those that need only what a camera gives
     plan.agents.clear();
     for (const std::string& name : agentRegistry().runnableByDefault()) {
@@ -201,6 +205,7 @@ std::string runSceneSet(const EvalOptions& cl, const std::string& scenes_path) {
   plan.model_path = cl.model;
   cl.applySceneRandomization(plan.environment);
   plan.max_steps = cl.max_steps.value_or(50);
+  plan.threads = cl.threads;
   if (!cl.through_bridge.empty()) return runThroughBridge(cl, plan);
   const std::string csv_path = (fs::path(cl.out) / (plan.scenes.name + "_episodes.csv")).string();
   const auto records = runPlanToCsv(plan, csv_path);

@@ -205,6 +205,7 @@ std::string runSweep(const EvalOptions& cl, const std::string& preset) {
       cl.agents.empty() ? agentRegistry().runnableByDefault() : cl.agents;  // the oracle too
   plan.model_path = cl.model;
   plan.max_steps = cl.max_steps.value_or(kSweepMaxSteps);
+  plan.threads = cl.threads;
   const std::string stem = (fs::path(cl.out) / plan.scenes.name).string();
   writeSweepModelsCsv(scenes.models, stem + "_models.csv");
   const auto records = runPlanToCsv(plan, stem + ".csv");

@@ -7,15 +7,21 @@
 // --second-model, as the bridge's ~second_model: each view's estimate is the union of both maps.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <torch/utils.h>  // torch::set_num_threads
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
@@ -52,6 +58,7 @@ struct Arguments {
   bool clear_bounding_surfaces = kBridge.clear_bounding_surfaces;
   int size = 256;
   std::string views_csv;  // "": no file
+  int threads = 2;        // workers, one environment, agent and networks each
 
   Arguments() : model(occlusion_env::learning::bridgeModelPath()) {
     options.catalog.source = "sweethome3d";
@@ -98,6 +105,10 @@ const OptionTable<Arguments>& argumentTable() {
                           "~clear_bounding_surfaces)"))
           .add("size", &Arguments::size,
                OptionSpec("image width and height").unit("px").range(64, 1024))
+          .add("threads", &Arguments::threads,
+               OptionSpec("worker threads, one environment, agent and networks each; the "
+                          "output is the same as with 1")
+                   .range(1, 64))
           .add("views_csv", &Arguments::views_csv,
                OptionSpec("also write every view (seed, step, the true occlusion and the "
                           "estimate at each probability, in px; with --second-model the "
@@ -148,9 +159,22 @@ std::size_t stopOf(const std::vector<View>& path, std::size_t probability, doubl
   return path.size();
 }
 
-/// views[scene][t]: the start view, then one per step, always max_steps + 1 of them.
-std::vector<std::vector<View>> collectViews(const Arguments& args) {
+// What the workers share: the scenes are taken by index, each path written to its own slot.
+struct Collection {
+  explicit Collection(const Arguments& args) : args(args), views(args.scenes) {}
+  const Arguments& args;
+  std::vector<std::vector<View>> views;  // [scene][t]
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex mutex;  // guards done, error and the progress line
+  int done = 0;
+  std::exception_ptr error;
+};
+
+// One worker: its own environment, agent and networks; scenes until none is left.
+void collectPaths(Collection& run) {
   using namespace occlusion_env;
+  const Arguments& args = run.args;
   const AgentRegistry registry = learning::learningAgents();
   EnvironmentOptions options = args.options;
   options.width = options.height = args.size;
@@ -169,8 +193,10 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
                    args.second_probability, surfaces);
   }
   cv::Mat mask, second_mask, depth_16u, depth_mm;
-  std::vector<std::vector<View>> views(args.scenes);
-  for (int scene = 0; scene < args.scenes; ++scene) {
+  while (!run.failed) {
+    const int scene = run.next++;
+    if (scene >= args.scenes) break;
+    std::vector<View>& path = run.views[scene];
     const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
     ResetOptions reset;
     reset.start_azimuth_rad = 0.0;
@@ -198,14 +224,41 @@ std::vector<std::vector<View>> collectViews(const Arguments& args) {
                                             ? estimator.occludedPixelsAt(probability, second_mask)
                                             : estimator.occludedPixelsAt(probability));
       }
-      views[scene].push_back(view);
+      path.push_back(view);
       if (t == options.max_steps) break;
       info = environment.moveOutsideEpisode(agent->act(rigObservationOf(observation, info)));
     }
-    std::cerr << "\rscene " << scene + 1 << "/" << args.scenes << std::flush;
+    const std::lock_guard<std::mutex> lock(run.mutex);
+    std::cerr << "\rscene " << ++run.done << "/" << args.scenes << std::flush;
+  }
+}
+
+/// views[scene][t]: the start view, then one per step, always max_steps + 1 of them. Scenes run
+/// on args.threads workers; each path depends only on its scene, so the result does not depend
+/// on how many.
+std::vector<std::vector<View>> collectViews(const Arguments& args) {
+  Collection run(args);
+  const auto guarded = [&run] {
+    try {
+      collectPaths(run);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(run.mutex);
+      if (!run.error) run.error = std::current_exception();
+      run.failed = true;
+    }
+  };
+  const int threads = std::min(args.threads, args.scenes);
+  if (threads <= 1) {
+    guarded();  // on this thread
+  } else {
+    torch::set_num_threads(1);  // one per worker: the workers share the cores
+    std::vector<std::thread> workers;
+    for (int t = 0; t < threads; ++t) workers.emplace_back(guarded);
+    for (std::thread& worker : workers) worker.join();
   }
   std::cerr << "\n";
-  return views;
+  if (run.error) std::rethrow_exception(run.error);
+  return std::move(run.views);
 }
 
 /// What was run, and how far the agent's paths get without a stop.
@@ -319,7 +372,7 @@ int main(int argc, char** argv) {
                          "clear_bounding_surfaces", "views_csv"});
   tools::addOptionFlags(app, environmentOptionTable(), args.options,
                         {"catalog_source", "categories", "model_split", "world", "depth_sensor"});
-  tools::addOptionFlags(app, argumentTable(), args, {"size"});
+  tools::addOptionFlags(app, argumentTable(), args, {"size", "threads"});
   app.callback([&app, &args] {
     checkSeeds(args);
     if (args.second_model.empty() && app.count("--second-probability") > 0) {

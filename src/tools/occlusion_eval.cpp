@@ -34,6 +34,7 @@ int runMode(const EvalOptions& options) {
     return 0;
   }
   std::filesystem::create_directories(options.out);
+  setInferenceThreads(options.threads);
   if (!options.scenes.empty()) {
     runSceneSet(options, options.scenes);
   } else if (!options.sweep.empty()) {

@@ -34,8 +34,12 @@ TEST(EvaluationThroughTheBridge, RecordsTheBridgesVerdictAndTheTruthWhereEpisode
   plan.bridge.confirm_views = 1;
   plan.bridge.min_valid_depth_fraction = 0.001;  // 64 px of the void: the objects fill little
   // An estimate that is always clear: the first step ends each episode, whatever the truth.
-  FixedEstimate estimator;
-  plan.bridge_estimator = &estimator;
+  std::int64_t estimated_px = 0;
+  plan.bridge_estimators = [&estimated_px] {
+    auto estimator = std::make_unique<FixedEstimate>();
+    estimator->next_px = estimated_px;
+    return estimator;
+  };
   std::vector<std::int64_t> truth;
   const std::vector<EpisodeRecord> records =
       runEvaluation(plan, coreAgents(), nullptr, nullptr, &truth);
@@ -49,7 +53,7 @@ TEST(EvaluationThroughTheBridge, RecordsTheBridgesVerdictAndTheTruthWhereEpisode
     EXPECT_GE(truth[i], 0);  // the simulator's count where it ended
   }
   // An estimate that is never clear: no verdict, the step limit ends each episode.
-  estimator.next_px = 100;
+  estimated_px = 100;
   truth.clear();
   for (const EpisodeRecord& record : runEvaluation(plan, coreAgents(), nullptr, nullptr, &truth)) {
     EXPECT_FALSE(record.success());
@@ -72,7 +76,7 @@ TEST(EvaluationThroughTheBridge, RecordsTheBridgesVerdictAndTheTruthWhereEpisode
   EXPECT_EQ(truth.size(), 2u);
   plan.bridge.min_valid_depth_fraction = 0.001;
   // Directly on the simulator nothing is written there.
-  plan.bridge_estimator = nullptr;
+  plan.bridge_estimators = nullptr;
   truth.clear();
   runEvaluation(plan, coreAgents(), nullptr, nullptr, &truth);
   EXPECT_TRUE(truth.empty());

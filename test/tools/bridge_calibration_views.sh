@@ -1,14 +1,21 @@
 #!/usr/bin/env bash
 # occlusion_bridge_calibration --views-csv: one row per view (the start view and one per step),
-# and the rules the tool prints follow from those rows; a second opinion joins its map.
+# and the rules the tool prints follow from those rows; two workers give the same; a second
+# opinion joins its map.
 set -euo pipefail
 tool=${1:?usage: bridge_calibration_views.sh TOOL SOURCE_DIR}
 source_dir=${2:?usage: bridge_calibration_views.sh TOOL SOURCE_DIR}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$tool" --model "$source_dir/models/multitask_unet64.pt" --scenes 3 --max-steps 4 --size 64 \
-    --probabilities 0.2,0.5 --thresholds 0,64 --confirm-views 1,2 \
+    --probabilities 0.2,0.5 --thresholds 0,64 --confirm-views 1,2 --threads 1 \
     --views-csv "$work/views.csv" > "$work/table.md" 2> "$work/progress.txt"
+# Two workers share the scenes out: the same views and table, in the same order.
+"$tool" --model "$source_dir/models/multitask_unet64.pt" --scenes 3 --max-steps 4 --size 64 \
+    --probabilities 0.2,0.5 --thresholds 0,64 --confirm-views 1,2 --threads 2 \
+    --views-csv "$work/views2.csv" > "$work/table2.md" 2> "$work/progress2.txt"
+cmp "$work/views.csv" "$work/views2.csv"
+cmp "$work/table.md" "$work/table2.md"
 /usr/bin/python3 - "$work/views.csv" "$work/table.md" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

@@ -2,7 +2,9 @@
 // one EpisodeRecord per (agent, scene, start azimuth).
 #pragma once
 
+#include <functional>
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,19 +25,23 @@ struct EvaluationPlan {
   int max_steps = 50;                      // per episode; the environment truncates there too
   EnvironmentOptions environment;          // the scene set's choices are applied on top
   std::string model_path;  // for agents that need a model; "" = each one's shipped model
-  /// Non-null: the agents run through the camera bridge's logic in front of the simulator
-  /// (env/simulated_camera_rig.hpp: BridgedSimulator), this estimating the occlusion; the records
-  /// then hold the bridge's verdict and estimate. Must outlive the run.
-  ViewOcclusionEstimator* bridge_estimator = nullptr;
+  /// Set: the agents run through the camera bridge's logic in front of the simulator
+  /// (env/simulated_camera_rig.hpp: BridgedSimulator), an estimator made by this (one per worker
+  /// thread) estimating the occlusion; the records then hold the bridge's verdict and estimate.
+  std::function<std::unique_ptr<ViewOcclusionEstimator>()> bridge_estimators;
   CameraEnvironmentOptions bridge;  // its rule; sphere, step and limits are the simulator's
+  /// Worker threads, each with its own simulator, estimator and agent, running episodes at once.
+  /// The records, CSV and progress come in the same order and are the same as with one.
+  int threads = 1;
 
   int episodes(const AgentRegistry& registry) const;
 };
 
 /// Runs every agent of `plan` on every scene (and start azimuth). Each finished episode goes to
-/// `csv` (one row, flushed; header first) when given and to `progress` when given. Agents are
-/// reset with the scene seed, so a run is reproducible. Throws InvalidArgumentError for an unknown
-/// agent and the episode's message when one is cut short (an in-process environment refused a
+/// `csv` (one row, flushed; header first) when given and to `progress` when given, in the order
+/// agent, scene, start azimuth whatever plan.threads is. Agents are reset with the scene seed, so a
+/// run is reproducible. Throws InvalidArgumentError for an unknown agent or threads < 1, and the
+/// episode's message when one is cut short (an in-process environment refused a
 /// reset or step, or an agent failed). Through the bridge, `true_final_occlusion_px` (when given)
 /// gets the simulator's L where each episode ended [px], in the records' order.
 std::vector<EpisodeRecord> runEvaluation(

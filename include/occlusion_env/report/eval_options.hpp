@@ -29,6 +29,7 @@ struct EvalOptions {
   std::vector<std::string> agents;  // empty: the registry's competitors
   std::optional<int> max_steps;     // none: the mode's default
   std::optional<int> limit;         // none: every scene of the set
+  int threads = 2;                  // episodes at once, one simulator (GL context) and agent each
   std::string sweep_source = "embedded";
   std::optional<int> sweep_models;  // none: defaultSweepModels(sweep_source)
   std::string out = "evaluation";
@@ -63,6 +64,10 @@ const OptionTable<EvalOptions>& evalOptionTable();
 
 /// Every agent the evaluation knows, the learned ones too; built once.
 const AgentRegistry& agentRegistry();
+
+/// Sets libtorch's threads per inference: one when `worker_threads` > 1, so that the workers'
+/// networks do not compete for the cores; libtorch's default (one per core) otherwise.
+void setInferenceThreads(int worker_threads);
 
 /// Runs the plot script with `--out options.out` and `plot_args` unless plots are off; a failing
 /// script is reported on stderr, not thrown.
