@@ -1,20 +1,19 @@
 #include "occlusion_env/dataset/generator.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <thread>
+#include <optional>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
+#include "occlusion_env/common/workers.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/scene_writer.hpp"
 #include "occlusion_env/env/environment.hpp"
@@ -610,35 +609,19 @@ GenerationReport generateDataset(const std::string& dir, const DatasetOptions& o
       todo.push_back(index);
     }
   }
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;
-  std::exception_ptr error;
+  std::mutex mutex;  // guards done and progress
   int done = 0;
-  const auto work = [&] {
-    try {
-      Worker worker(environment_options, library);
-      while (!failed) {
-        const std::size_t slot = next++;
-        if (slot >= todo.size()) break;
-        const int index = todo[slot];
-        writeScene(worker, dir, index, options.first_seed + static_cast<std::uint64_t>(index),
-                   options);
-        const std::lock_guard<std::mutex> lock(mutex);
-        ++done;
-        if (progress) progress(done, static_cast<int>(todo.size()));
-      }
-    } catch (...) {
+  runWorkers(options.threads, todo.size(), [&](JobSource& jobs) {
+    Worker worker(environment_options, library);
+    while (const std::optional<std::size_t> slot = jobs.next()) {
+      const int index = todo[*slot];
+      writeScene(worker, dir, index, options.first_seed + static_cast<std::uint64_t>(index),
+                 options);
       const std::lock_guard<std::mutex> lock(mutex);
-      if (!error) error = std::current_exception();
-      failed = true;
+      ++done;
+      if (progress) progress(done, static_cast<int>(todo.size()));
     }
-  };
-  const int threads = std::min<int>(options.threads, std::max<std::size_t>(1, todo.size()));
-  std::vector<std::thread> workers;
-  for (int t = 0; t < threads; ++t) workers.emplace_back(work);
-  for (std::thread& worker : workers) worker.join();
-  if (error) std::rethrow_exception(error);
+  });
   report.scenes_written = done;
   report.frames_written = done * options.frames;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

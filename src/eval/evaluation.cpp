@@ -1,16 +1,13 @@
 #include "occlusion_env/eval/evaluation.hpp"
 
-#include <algorithm>
-#include <atomic>
-#include <exception>
 #include <mutex>
 #include <optional>
 #include <ostream>
 #include <stdexcept>
-#include <thread>
 
 #include "occlusion_env/agents/episode_runner.hpp"
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/workers.hpp"
 #include "occlusion_env/env/simulated_camera_rig.hpp"
 
 namespace occlusion_env {
@@ -44,11 +41,8 @@ struct EvaluationRun {
   std::vector<std::string> agents;
   std::vector<EpisodeSlot> slots;  // agent-major, as a single worker runs them
   EnvironmentOptions environment_options;
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
 
-  std::mutex mutex;  // guards everything below and the outputs
-  std::exception_ptr error;
+  std::mutex mutex;                                      // guards everything below and the outputs
   std::vector<std::optional<FinishedEpisode>> finished;  // per slot, until handed on
   std::size_t handed_on = 0;                             // slots before this are in `records`
   std::vector<EpisodeRecord> records;
@@ -81,8 +75,8 @@ struct EvaluationRun {
 };
 
 // One worker: its own simulator (a GL context, made on this thread), bridge estimator and agent;
-// episodes taken from run.slots until none is left or another worker failed.
-void work(EvaluationRun& run) {
+// episodes taken from `jobs` (indices into run.slots).
+void work(EvaluationRun& run, JobSource& jobs) {
   Environment simulator(run.environment_options);
   std::unique_ptr<ViewOcclusionEstimator> estimator;
   std::unique_ptr<BridgedSimulator> bridged;
@@ -97,10 +91,8 @@ void work(EvaluationRun& run) {
 
   std::unique_ptr<Agent> agent;  // of run.agents[agent_index]; slots are agent-major
   std::size_t agent_index = 0;
-  while (!run.failed) {
-    const std::size_t slot = run.next++;
-    if (slot >= run.slots.size()) break;
-    const EpisodeSlot& episode = run.slots[slot];
+  while (const std::optional<std::size_t> slot = jobs.next()) {
+    const EpisodeSlot& episode = run.slots[*slot];
     const std::string& agent_name = run.agents[episode.agent];
     if (!agent || agent_index != episode.agent) {
       agent.reset();  // the last agent's model goes before the next one's is loaded
@@ -120,7 +112,7 @@ void work(EvaluationRun& run) {
                                finished.record.message);
     }
     if (bridged) finished.true_final_px = bridged->trueOcclusion();
-    run.finish(slot, std::move(finished));
+    run.finish(*slot, std::move(finished));
   }
 }
 
@@ -156,25 +148,7 @@ std::vector<EpisodeRecord> runEvaluation(const EvaluationPlan& plan, const Agent
   run.true_final_px = true_final_occlusion_px;
   if (csv) *csv << episodeCsvHeader() << "\n" << std::flush;
 
-  const auto guarded = [&run] {
-    try {
-      work(run);
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(run.mutex);
-      if (!run.error) run.error = std::current_exception();
-      run.failed = true;
-    }
-  };
-  const std::size_t threads =
-      std::min<std::size_t>(static_cast<std::size_t>(plan.threads), run.slots.size());
-  if (threads <= 1) {
-    guarded();  // on the caller's thread, as before there were workers
-  } else {
-    std::vector<std::thread> workers;
-    for (std::size_t t = 0; t < threads; ++t) workers.emplace_back(guarded);
-    for (std::thread& worker : workers) worker.join();
-  }
-  if (run.error) std::rethrow_exception(run.error);
+  runWorkers(plan.threads, run.slots.size(), [&run](JobSource& jobs) { work(run, jobs); });
   if (progress) progress->finish();
   return std::move(run.records);
 }

@@ -1,19 +1,18 @@
 #include "occlusion_env/learning/dagger.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
-#include <thread>
+#include <optional>
 #include <vector>
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/random.hpp"
+#include "occlusion_env/common/workers.hpp"
 #include "occlusion_env/dataset/bop_dataset.hpp"
 #include "occlusion_env/dataset/scene_writer.hpp"
 #include "occlusion_env/env/scene_set.hpp"
@@ -193,23 +192,18 @@ struct DaggerRun {
   std::shared_ptr<ObjectLibrary> library;
   std::vector<int> todo;  // scene indices
   const DaggerProgress& progress;
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards report, error and progress
-  std::exception_ptr error;
+  std::mutex mutex;  // guards report and progress
   DaggerReport report;
 };
 
-// One worker: its environment and network, scenes taken from run.todo until none is left.
-void work(DaggerRun& run) {
+// One worker: its environment and network, the scenes of run.todo that `jobs` gives it.
+void work(DaggerRun& run, JobSource& jobs) {
   using Clock = std::chrono::steady_clock;
   dataset::SceneWriter writer(run.environment_options, run.library);
   NetworkDirectionAgent agent(std::make_shared<LoadedModel>(loadModel(run.options.model)),
                               DirectionHead::kEscape);
-  while (!run.failed) {
-    const std::size_t slot = run.next++;
-    if (slot >= run.todo.size()) break;
-    const int index = run.todo[slot];
+  while (const std::optional<std::size_t> slot = jobs.next()) {
+    const int index = run.todo[*slot];
     const std::uint64_t seed = run.options.first_seed + static_cast<std::uint64_t>(index);
     const Clock::time_point rolled_out_from = Clock::now();
     const Rollout rollout = rollOut(writer, agent, seed, run.options);
@@ -251,20 +245,7 @@ DaggerReport writeDaggerDataset(const std::string& dir, const DaggerOptions& opt
   dataset::writeJsonAtomically((fs::path(dir) / dataset::kManifestFile).string(), manifest);
 
   run.todo = scenesToDo(dir, options.scenes, run.report);
-  const auto guarded = [&run] {
-    try {
-      work(run);
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(run.mutex);
-      if (!run.error) run.error = std::current_exception();
-      run.failed = true;
-    }
-  };
-  const int threads = std::min<int>(options.threads, std::max<std::size_t>(1, run.todo.size()));
-  std::vector<std::thread> workers;
-  for (int t = 0; t < threads; ++t) workers.emplace_back(guarded);
-  for (std::thread& worker : workers) worker.join();
-  if (run.error) std::rethrow_exception(run.error);
+  runWorkers(options.threads, run.todo.size(), [&run](JobSource& jobs) { work(run, jobs); });
   run.report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run.report;

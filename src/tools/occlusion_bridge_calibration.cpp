@@ -7,9 +7,7 @@
 // --second-model, as the bridge's ~second_model: each view's estimate is the union of both maps.
 //   occlusion_bridge_calibration --scenes 50 --thresholds 0,16,64,256
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -18,12 +16,12 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <torch/utils.h>  // torch::set_num_threads
 
 #include "occlusion_env/common/errors.hpp"
+#include "occlusion_env/common/workers.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
 #include "occlusion_env/env/environment.hpp"
 #include "occlusion_env/env/episode_rule.hpp"
@@ -159,20 +157,17 @@ std::size_t stopOf(const std::vector<View>& path, std::size_t probability, doubl
   return path.size();
 }
 
-// What the workers share: the scenes are taken by index, each path written to its own slot.
+// What the workers share: each scene's path is written to its own slot.
 struct Collection {
   explicit Collection(const Arguments& args) : args(args), views(args.scenes) {}
   const Arguments& args;
   std::vector<std::vector<View>> views;  // [scene][t]
-  std::atomic<int> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex mutex;  // guards done, error and the progress line
+  std::mutex mutex;                      // guards done and the progress line
   int done = 0;
-  std::exception_ptr error;
 };
 
-// One worker: its own environment, agent and networks; scenes until none is left.
-void collectPaths(Collection& run) {
+// One worker: its own environment, agent and networks; the scenes `jobs` gives it.
+void collectPaths(Collection& run, occlusion_env::JobSource& jobs) {
   using namespace occlusion_env;
   const Arguments& args = run.args;
   const AgentRegistry registry = learning::learningAgents();
@@ -193,11 +188,9 @@ void collectPaths(Collection& run) {
                    args.second_probability, surfaces);
   }
   cv::Mat mask, second_mask, depth_16u, depth_mm;
-  while (!run.failed) {
-    const int scene = run.next++;
-    if (scene >= args.scenes) break;
-    std::vector<View>& path = run.views[scene];
-    const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed + scene);
+  while (const std::optional<std::size_t> scene = jobs.next()) {
+    std::vector<View>& path = run.views[*scene];
+    const std::uint64_t seed = static_cast<std::uint64_t>(args.first_seed) + *scene;
     ResetOptions reset;
     reset.start_azimuth_rad = 0.0;
     StepInfo info = environment.reset(seed, reset).info;
@@ -238,26 +231,10 @@ void collectPaths(Collection& run) {
 /// on how many.
 std::vector<std::vector<View>> collectViews(const Arguments& args) {
   Collection run(args);
-  const auto guarded = [&run] {
-    try {
-      collectPaths(run);
-    } catch (...) {
-      const std::lock_guard<std::mutex> lock(run.mutex);
-      if (!run.error) run.error = std::current_exception();
-      run.failed = true;
-    }
-  };
-  const int threads = std::min(args.threads, args.scenes);
-  if (threads <= 1) {
-    guarded();  // on this thread
-  } else {
-    torch::set_num_threads(1);  // one per worker: the workers share the cores
-    std::vector<std::thread> workers;
-    for (int t = 0; t < threads; ++t) workers.emplace_back(guarded);
-    for (std::thread& worker : workers) worker.join();
-  }
+  if (args.threads > 1) torch::set_num_threads(1);  // one per worker: the workers share the cores
+  occlusion_env::runWorkers(args.threads, static_cast<std::size_t>(args.scenes),
+                            [&run](occlusion_env::JobSource& jobs) { collectPaths(run, jobs); });
   std::cerr << "\n";
-  if (run.error) std::rethrow_exception(run.error);
   return std::move(run.views);
 }
 
