@@ -40,7 +40,8 @@ std::string withoutWallTime(const std::string& csv) {
   return out;
 }
 
-// Everything runEvaluation hands back: the CSV it wrote and the truths through the bridge.
+// Everything runEvaluation hands back: the records, the CSV it wrote (wall time aside) and the
+// truths through the bridge.
 struct RunOutput {
   std::vector<EpisodeRecord> records;
   std::string csv;
