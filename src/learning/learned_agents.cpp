@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <torch/utils.h>  // torch::set_num_threads
+
 #include "occlusion_env/agents/core_agents.hpp"
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
@@ -143,6 +145,10 @@ AgentRegistry learningAgents() {
   registry.add(policyAgentEntry());
   registry.add(policySampledAgentEntry());
   return registry;
+}
+
+void setInferenceThreadsForWorkers(int workers) {
+  if (workers > 1) torch::set_num_threads(1);
 }
 
 }  // namespace learning

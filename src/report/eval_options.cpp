@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <torch/utils.h>  // torch::set_num_threads
-
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/package_paths.hpp"
 #include "occlusion_env/eval/subprocess.hpp"
@@ -197,10 +195,6 @@ void EvalOptions::applySceneRandomization(EnvironmentOptions& environment) const
 const AgentRegistry& agentRegistry() {
   static const AgentRegistry agents = learning::learningAgents();
   return agents;
-}
-
-void setInferenceThreads(int worker_threads) {
-  if (worker_threads > 1) torch::set_num_threads(1);
 }
 
 void runPlots(const EvalOptions& cl, std::vector<std::string> plot_args) {

@@ -18,8 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <torch/utils.h>  // torch::set_num_threads
-
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/common/workers.hpp"
 #include "occlusion_env/env/camera_environment.hpp"
@@ -231,7 +229,7 @@ void collectPaths(Collection& run, occlusion_env::JobSource& jobs) {
 /// on how many.
 std::vector<std::vector<View>> collectViews(const Arguments& args) {
   Collection run(args);
-  if (args.threads > 1) torch::set_num_threads(1);  // one per worker: the workers share the cores
+  occlusion_env::learning::setInferenceThreadsForWorkers(args.threads);
   occlusion_env::runWorkers(args.threads, static_cast<std::size_t>(args.scenes),
                             [&run](occlusion_env::JobSource& jobs) { collectPaths(run, jobs); });
   std::cerr << "\n";

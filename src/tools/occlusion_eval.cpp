@@ -12,6 +12,7 @@
 
 #include "occlusion_env/common/errors.hpp"
 #include "occlusion_env/eval/sweep.hpp"
+#include "occlusion_env/learning/learned_agents.hpp"
 #include "occlusion_env/report/eval_options.hpp"
 #include "occlusion_env/report/evaluation_report.hpp"
 #include "occlusion_env/report/landscape_report.hpp"
@@ -34,7 +35,7 @@ int runMode(const EvalOptions& options) {
     return 0;
   }
   std::filesystem::create_directories(options.out);
-  setInferenceThreads(options.threads);
+  learning::setInferenceThreadsForWorkers(options.threads);
   if (!options.scenes.empty()) {
     runSceneSet(options, options.scenes);
   } else if (!options.sweep.empty()) {

@@ -73,5 +73,10 @@ AgentEntry predictedEscapeAgentEntry();
 /// The core's agents and the learned ones: what the evaluation and the agent node offer.
 AgentRegistry learningAgents();
 
+/// For a tool running `workers` worker threads, each with networks of its own: libtorch's threads
+/// per inference, one when `workers` > 1 so that the workers do not compete for the cores, its
+/// default (one per core) otherwise.
+void setInferenceThreadsForWorkers(int workers);
+
 }  // namespace learning
 }  // namespace occlusion_env

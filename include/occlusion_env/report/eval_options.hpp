@@ -65,10 +65,6 @@ const OptionTable<EvalOptions>& evalOptionTable();
 /// Every agent the evaluation knows, the learned ones too; built once.
 const AgentRegistry& agentRegistry();
 
-/// Sets libtorch's threads per inference: one when `worker_threads` > 1, so that the workers'
-/// networks do not compete for the cores; libtorch's default (one per core) otherwise.
-void setInferenceThreads(int worker_threads);
-
 /// Runs the plot script with `--out options.out` and `plot_args` unless plots are off; a failing
 /// script is reported on stderr, not thrown.
 void runPlots(const EvalOptions& options, std::vector<std::string> plot_args);
