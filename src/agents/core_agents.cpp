@@ -1,5 +1,6 @@
 #include "occlusion_env/agents/core_agents.hpp"
 
+#include "occlusion_env/agents/depth_geometry_agent.hpp"
 #include "occlusion_env/agents/oracle.hpp"
 
 namespace occlusion_env {
@@ -8,6 +9,7 @@ AgentRegistry coreAgents() {
   AgentRegistry registry;
   registry.add(randomAgentEntry());
   registry.add(gradientAgentEntry());
+  registry.add(depthGeometryAgentEntry());
   registry.add(oracleAgentEntry());
   return registry;
 }
