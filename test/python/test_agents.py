@@ -32,6 +32,17 @@ def test_predicted_escape_acts_on_observations_of_any_source():
     env.step(action)
 
 
+def test_depth_geometry_needs_the_cameras_intrinsics_and_frame_from_an_env():
+    env = occlusion_env.make(**SIZE)
+    observation, _ = env.reset(seed=1)
+    action = agents.load("depth_geometry", env=env)(observation)
+    assert action in env.action_space
+    assert abs(np.hypot(*action.astype(np.float64)) - 1.0) < 1e-5
+    # Without an env it has neither, and says so rather than guess.
+    with pytest.raises(occlusion_env.InvalidArgumentError, match="depth_geometry needs"):
+        agents.load("depth_geometry")(observation)
+
+
 MODELS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "models")
 
 
