@@ -226,8 +226,10 @@ int DepthGeometryAgent::overlapPixels(const Eigen::Isometry3d& world_from_optica
   const Eigen::Matrix3d rotation = optical_from_world.linear();
   const Eigen::Vector3d translation = optical_from_world.translation();
   // Each voxel covers the (2 r + 1)^2 pixels around its centre's projection, r half its
-  // footprint at the sphere's radius rounded (2 cm at 4 m: 1.1 px at 256 px and 60 deg, r = 1; at
-  // 128 px r = 0), so that neighbouring voxels leave no holes and silhouettes grow by no more.
+  // footprint at the sphere's radius rounded (2 cm at 4 m: 1.1 px at 256 px and 60 deg), so that
+  // neighbouring voxels leave no holes; and at least 1, so that objects touching in the image
+  // count as overlapping (the nearer one may hide more of the other; with 0, a move along the line
+  // where two patches touch looked like parting them: the unit test's patches).
   const int r = std::max(1, static_cast<int>(std::lround(0.5 * k.fx * options_.voxel_fraction)));
   int overlapping = 0;
   for (std::size_t i = 0; i < centres_.size(); ++i) {

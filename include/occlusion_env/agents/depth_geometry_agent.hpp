@@ -86,7 +86,7 @@ class DepthGeometryAgent : public Agent {
   std::uint32_t stamp_ = 0;
   std::vector<std::uint8_t> grid_;    // scratch of splitIntoObjects()
   std::vector<std::int32_t> labels_;  // scratch of splitIntoObjects()
-  struct Scratch {  // splitIntoObjects()' buffers, kept so that a view allocates nothing new
+  struct Scratch {  // splitIntoObjects()' buffers, kept between views to reuse their memory
     std::vector<std::uint64_t> keys;
     std::vector<Eigen::Vector3i> cells, stack;
     std::vector<std::uint8_t> line;
