@@ -31,6 +31,11 @@ Eigen::Vector3i unpackKey(std::uint64_t key) {
       static_cast<int>(static_cast<std::int64_t>(key & kKeyMask) - kKeyOffset)};
 }
 
+// The index of cell `c` in a grid of `size` cells, x fastest.
+std::int64_t cellIndex(const Eigen::Vector3i& c, const Eigen::Vector3i& size) {
+  return (std::int64_t{c.z()} * size.y() + c.y()) * size.x() + c.x();
+}
+
 // grid (nx, ny, nz, x fastest) grown by `radius` cells along `axis`: a cell is set when any cell
 // within `radius` along the axis is (a running count over the window).
 void growAlongAxis(std::vector<std::uint8_t>& grid, const Eigen::Vector3i& size, int axis,
@@ -126,6 +131,45 @@ void DepthGeometryAgent::integrate(const RigObservation& observation) {
   }
 }
 
+void DepthGeometryAgent::labelGrownParts(const Eigen::Vector3i& size) {
+  const std::vector<Eigen::Vector3i>& cells = scratch_.cells;
+  const auto index = [&](const Eigen::Vector3i& c) { return cellIndex(c, size); };
+  labels_.assign(grid_.size(), -1);
+  std::vector<int>& voxels_per_label = scratch_.voxels_per_label;
+  voxels_per_label.clear();
+  std::vector<Eigen::Vector3i>& stack = scratch_.stack;  // cells of the part still to visit
+  std::vector<int>& label_of_voxel = scratch_.label_of_voxel;
+  label_of_voxel.resize(cells.size());
+  // Labels every grown cell 26-connected to `seed` with `label`.
+  const auto flood = [&](const Eigen::Vector3i& seed, int label) {
+    labels_[index(seed)] = label;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const Eigen::Vector3i c = stack.back();
+      stack.pop_back();
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const Eigen::Vector3i n = c + Eigen::Vector3i(dx, dy, dz);
+            if ((n.array() < 0).any() || (n.array() >= size.array()).any()) continue;
+            const std::int64_t j = index(n);
+            if (!grid_[j] || labels_[j] >= 0) continue;
+            labels_[j] = label;
+            stack.push_back(n);
+          }
+    }
+  };
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::int64_t start = index(cells[i]);
+    if (labels_[start] < 0) {
+      flood(cells[i], static_cast<int>(voxels_per_label.size()));
+      voxels_per_label.push_back(0);
+    }
+    label_of_voxel[i] = labels_[start];
+    ++voxels_per_label[labels_[start]];
+  }
+}
+
 void DepthGeometryAgent::splitIntoObjects() {
   centres_.clear();
   object_of_.clear();
@@ -149,9 +193,7 @@ void DepthGeometryAgent::splitIntoObjects() {
   const std::int64_t cell_count = std::int64_t{size.x()} * size.y() * size.z();
   if (cell_count > kMaxGridCells)
     throw InvalidArgumentError("depth_geometry: the depth spans more than its voxel grid can hold");
-  const auto index = [&](const Eigen::Vector3i& c) {
-    return (std::int64_t{c.z()} * size.y() + c.y()) * size.x() + c.x();
-  };
+  const auto index = [&](const Eigen::Vector3i& c) { return cellIndex(c, size); };
   grid_.assign(cell_count, 0);
   for (auto& c : cells) {
     c -= low;
@@ -160,39 +202,9 @@ void DepthGeometryAgent::splitIntoObjects() {
   std::vector<std::uint8_t>& line = scratch_.line;
   for (int axis = 0; axis < 3 && pad > 0; ++axis) growAlongAxis(grid_, size, axis, pad, line);
 
-  // Objects: the 26-connected parts of the grown grid that hold occupied voxels.
-  labels_.assign(cell_count, -1);
-  std::vector<int>& voxels_per_label = scratch_.voxels_per_label;
-  voxels_per_label.clear();
-  std::vector<Eigen::Vector3i>& stack = scratch_.stack;  // cells of the part still to visit
-  std::vector<int>& label_of_voxel = scratch_.label_of_voxel;
-  label_of_voxel.resize(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const std::int64_t start = index(cells[i]);
-    if (labels_[start] < 0) {
-      const int label = static_cast<int>(voxels_per_label.size());
-      voxels_per_label.push_back(0);
-      labels_[start] = label;
-      stack.push_back(cells[i]);
-      while (!stack.empty()) {
-        const Eigen::Vector3i c = stack.back();
-        stack.pop_back();
-        for (int dz = -1; dz <= 1; ++dz)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              const Eigen::Vector3i n = c + Eigen::Vector3i(dx, dy, dz);
-              if ((n.array() < 0).any() || (n.array() >= size.array()).any()) continue;
-              const std::int64_t j = index(n);
-              if (grid_[j] && labels_[j] < 0) {
-                labels_[j] = label;
-                stack.push_back(n);
-              }
-            }
-      }
-    }
-    label_of_voxel[i] = labels_[start];
-    ++voxels_per_label[labels_[start]];
-  }
+  labelGrownParts(size);
+  const std::vector<int>& voxels_per_label = scratch_.voxels_per_label;
+  const std::vector<int>& label_of_voxel = scratch_.label_of_voxel;
 
   // The largest parts of at least min_object_voxels, at most kMaxObjects of them.
   std::vector<int>& order = scratch_.order;
@@ -235,8 +247,9 @@ int DepthGeometryAgent::overlapPixels(const Eigen::Isometry3d& world_from_optica
   for (std::size_t i = 0; i < centres_.size(); ++i) {
     const Eigen::Vector3d p = rotation * centres_[i] + translation;
     if (p.z() <= 1e-6) continue;
-    const int u0 = static_cast<int>(std::lround(k.fx * p.x() / p.z() + k.cx));
-    const int v0 = static_cast<int>(std::lround(k.fy * p.y() / p.z() + k.cy));
+    const Eigen::Vector2d pixel = k.project(p);
+    const int u0 = static_cast<int>(std::lround(pixel.x()));
+    const int v0 = static_cast<int>(std::lround(pixel.y()));
     if (u0 < -r || v0 < -r || u0 >= k.width + r || v0 >= k.height + r) continue;
     const std::uint32_t bit = std::uint32_t{1} << object_of_[i];
     for (int v = std::max(0, v0 - r); v <= std::min(k.height - 1, v0 + r); ++v) {

@@ -66,6 +66,9 @@ class DepthGeometryAgent : public Agent {
   };
   void integrate(const RigObservation& observation);
   void splitIntoObjects();
+  // Labels the 26-connected parts of the grown grid (grid_, `size` cells) that hold the occupied
+  // voxels (scratch_.cells): labels_ per cell, scratch_.voxels_per_label and label_of_voxel.
+  void labelGrownParts(const Eigen::Vector3i& size);
   // Pixels covered by two or more objects when the camera sits at `pose`; stops counting once
   // the count reaches `stop_at`.
   int overlapPixels(const Eigen::Isometry3d& world_from_optical, const CameraIntrinsics& intrinsics,
