@@ -62,7 +62,8 @@ void growAlongAxis(std::vector<std::uint8_t>& grid, const Eigen::Vector3i& size,
 
 }  // namespace
 
-DepthGeometryAgent::DepthGeometryAgent(DepthGeometryOptions options) : options_(options) {
+DepthGeometryAgent::DepthGeometryAgent(DepthGeometryOptions options)
+    : options_(options), surfaces_(options.bounding_surfaces) {
   if (!(options_.voxel_fraction > 0.0 && options_.voxel_fraction <= 0.1))
     throw InvalidArgumentError("depth_geometry: voxel_fraction must be in (0, 0.1]");
   if (options_.join_voxels < 0 || options_.join_voxels > 50)
@@ -93,6 +94,9 @@ void DepthGeometryAgent::reset(std::uint64_t) {
   voxel_m_ = 0.0;
   occupied_.clear();
   visited_.clear();
+  bounds_.clear();
+  lowest_elevation_rad_ = -M_PI / 2;
+  highest_elevation_rad_ = M_PI / 2;
   centres_.clear();
   object_of_.clear();
   objects_ = 0;
@@ -115,6 +119,9 @@ void DepthGeometryAgent::integrate(const RigObservation& observation) {
   if (voxel_m_ == 0.0) voxel_m_ = options_.voxel_fraction * radius;
   const Eigen::Matrix3d rotation = observation.world_from_optical.linear();
   const Eigen::Vector3d origin = observation.world_from_optical.translation();
+  if (options_.skip_bounding_surfaces)
+    noteBounds(surfaces_.find(depth, k, on_surface_), depth, k, observation.world_from_optical,
+               radius);
   for (int v = 0; v < depth.rows; ++v) {
     const float* row = depth.ptr<float>(v);
     const double ray_y = (v - k.cy) / k.fy;
@@ -124,9 +131,91 @@ void DepthGeometryAgent::integrate(const RigObservation& observation) {
       const Eigen::Vector3d world =
           origin + rotation * Eigen::Vector3d((u - k.cx) / k.fx * z, ray_y * z, z);
       if (world.norm() >= radius) continue;  // beyond the sphere: not among the objects
+      if (!bounds_.empty() && onOrBehindBound(world, z)) continue;  // a floor or a wall
       occupied_.insert(packKey(static_cast<std::int64_t>(std::floor(world.x() / voxel_m_)),
                                static_cast<std::int64_t>(std::floor(world.y() / voxel_m_)),
                                static_cast<std::int64_t>(std::floor(world.z() / voxel_m_))));
+    }
+  }
+}
+
+bool DepthGeometryAgent::onOrBehindBound(const Eigen::Vector3d& world, double z_m) const {
+  return std::any_of(bounds_.begin(), bounds_.end(), [&](const Bound& bound) {
+    return bound.normal.dot(world) + bound.offset_m < voxel_m_ + bound.spread_per_m2 * z_m * z_m;
+  });
+}
+
+void DepthGeometryAgent::collectSurfacePoints(const std::vector<SurfacePlane>& planes,
+                                              const cv::Mat& depth, const CameraIntrinsics& k,
+                                              const Eigen::Isometry3d& world_from_optical) {
+  std::vector<std::vector<Eigen::Vector4d>>& points = scratch_.surface_points;
+  points.resize(planes.size());
+  for (auto& p : points) p.clear();
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* row = depth.ptr<float>(v);
+    const std::uint8_t* surface = on_surface_.ptr<std::uint8_t>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (surface[u] == 0) continue;
+      const double z = row[u];
+      const Eigen::Vector3d point((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z);
+      std::size_t nearest = 0;
+      double distance = HUGE_VAL;
+      for (std::size_t i = 0; i < planes.size(); ++i) {
+        const double d = std::abs(planes[i].normal.dot(point) + planes[i].offset_m);
+        if (d < distance) distance = d, nearest = i;
+      }
+      const Eigen::Vector3d world = world_from_optical * point;
+      points[nearest].emplace_back(world.x(), world.y(), world.z(), z);
+    }
+  }
+}
+
+void DepthGeometryAgent::noteBounds(const std::vector<SurfacePlane>& planes, const cv::Mat& depth,
+                                    const CameraIntrinsics& k,
+                                    const Eigen::Isometry3d& world_from_optical, double radius) {
+  if (planes.empty()) return;
+  collectSurfacePoints(planes, depth, k, world_from_optical);
+  const std::vector<std::vector<Eigen::Vector4d>>& points = scratch_.surface_points;
+  std::vector<double>& values = scratch_.values;
+  const auto median = [&values]() {
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    return values[values.size() / 2];
+  };
+  const double max_tilt_rad = 10.0 * M_PI / 180.0;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    if (points[i].size() < 3) continue;
+    // A room's floor and ceiling are level and its walls upright: the plane found is snapped to
+    // the nearest of those; a plane tilted more than 10 degrees from both is no bound.
+    Eigen::Vector3d normal = world_from_optical.linear() * planes[i].normal;
+    if (std::abs(normal.z()) > std::cos(max_tilt_rad)) {
+      normal = Eigen::Vector3d(0.0, 0.0, normal.z() > 0.0 ? 1.0 : -1.0);
+    } else if (std::abs(normal.z()) < std::sin(max_tilt_rad)) {
+      normal = Eigen::Vector3d(normal.x(), normal.y(), 0.0).normalized();
+    } else {
+      continue;
+    }
+    values.clear();
+    for (const Eigen::Vector4d& p : points[i]) values.push_back(-normal.dot(p.head<3>()));
+    Bound bound{normal, median(), 0.0};
+    // A surface with the sphere's centre behind it bounds nothing the camera circles.
+    if (!(bound.offset_m > 0.0)) continue;
+    values.clear();
+    for (const Eigen::Vector4d& p : points[i])
+      values.push_back(std::abs(normal.dot(p.head<3>()) + bound.offset_m) / (p.w() * p.w()));
+    bound.spread_per_m2 = 3.0 * 1.4826 * median();  // 3 sigma, sigma from the median deviation
+    const double tolerance_m = voxel_m_ + bound.spread_per_m2 * radius * radius;
+    const bool known = std::any_of(bounds_.begin(), bounds_.end(), [&](const Bound& b) {
+      return b.normal.dot(bound.normal) > 0.999 &&
+             std::abs(b.offset_m - bound.offset_m) < tolerance_m;
+    });
+    if (known) continue;
+    bounds_.push_back(bound);
+    // The voxels fused before it was found, at the tolerance of a point at the sphere's radius.
+    for (auto it = occupied_.begin(); it != occupied_.end();) {
+      const Eigen::Vector3d centre =
+          (unpackKey(*it).cast<double>().array() + 0.5).matrix() * voxel_m_;
+      it = bound.normal.dot(centre) + bound.offset_m < tolerance_m ? occupied_.erase(it)
+                                                                   : std::next(it);
     }
   }
 }
@@ -270,7 +359,24 @@ int DepthGeometryAgent::overlapPixels(const Eigen::Isometry3d& world_from_optica
   return overlapping;
 }
 
+void DepthGeometryAgent::noteElevationLimits(const SphericalPose& pose) {
+  if (visited_.empty()) return;
+  // The rig moves along the unit move asked for, whatever its step; a move that was stopped in
+  // elevation (or not made at all) turned away from it by more than a tenth in elevation. A move
+  // stopped part of the way straight up or down is noted at the next one, which is not made.
+  const double made_azimuth = azimuthChange(visited_.back(), pose);
+  const double made_elevation = pose.elevation_rad - visited_.back().elevation_rad;
+  const double length = std::hypot(made_azimuth, made_elevation);
+  const double asked = last_move_.d_elevation_rad;
+  const double made = length > 1e-9 ? made_elevation / length : 0.0;  // direction's elevation
+  if (asked < 0.0 && made > asked + 0.1)
+    lowest_elevation_rad_ = std::max(lowest_elevation_rad_, pose.elevation_rad);
+  if (asked > 0.0 && made < asked - 0.1)
+    highest_elevation_rad_ = std::min(highest_elevation_rad_, pose.elevation_rad);
+}
+
 Action DepthGeometryAgent::act(const RigObservation& observation) {
+  noteElevationLimits(observation.pose);
   integrate(observation);
   splitIntoObjects();
   visited_.push_back(observation.pose);
@@ -288,6 +394,9 @@ Action DepthGeometryAgent::act(const RigObservation& observation) {
     const SphericalPose pose{observation.pose.azimuth_rad + offset.azimuth_steps * h,
                              observation.pose.elevation_rad + offset.elevation_steps * h};
     if (std::abs(pose.elevation_rad) > options_.elevation_limit_rad) continue;
+    if (pose.elevation_rad < lowest_elevation_rad_ - 1e-9 ||
+        pose.elevation_rad > highest_elevation_rad_ + 1e-9)
+      continue;  // beyond a limit the rig met
     // A view of this episode did not end it: it is not the clear view the voxels missed.
     const bool visited = std::any_of(visited_.begin(), visited_.end(), [&](const SphericalPose& v) {
       return std::hypot(azimuthChange(v, pose), v.elevation_rad - pose.elevation_rad) < 0.5 * h;

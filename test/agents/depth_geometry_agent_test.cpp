@@ -92,6 +92,66 @@ TEST(DepthGeometryAgent, FusesTheEpisodesViewsAndForgetsThemOnReset) {
   EXPECT_EQ(agent.lastPlan().objects, 1);
 }
 
+// The two patches of the first test standing on a floor 0.9 m below the camera (the world's z =
+// -0.9 m): each patch reaches down to the floor, the floor fills the rest of the lower half up to
+// 4.5 m away.
+View onAFloor() {
+  View view(std::initializer_list<Patch>{});
+  const CameraIntrinsics& k = view.intrinsics;
+  const auto floor_row = [&](float depth_m) {  // the first row below the floor at that depth
+    return static_cast<int>(std::ceil(k.cy + k.fy * 0.9 / depth_m));
+  };
+  for (int v = static_cast<int>(std::ceil(k.cy)); v < kSize; ++v) {
+    const double ray_down = (v - k.cy) / k.fy;  // the optical y axis points down the world's z
+    // Up to 4.5 m away: farther, the floor's rows lie farther apart than the join distance.
+    if (ray_down > 0.9 / 4.5) view.depth.row(v).setTo(static_cast<float>(0.9 / ray_down));
+  }
+  for (const Patch& patch : {Patch{30, 60, 3.0f}, Patch{60, 90, 3.8f}})
+    view.depth(cv::Rect(patch.u0, 32, patch.u1 - patch.u0, floor_row(patch.depth_m) - 32)) =
+        patch.depth_m;
+  return view;
+}
+
+TEST(DepthGeometryAgent, LeavesOutAFloorThatWouldJoinTheObjects) {
+  DepthGeometryAgent agent;
+  agent.act(onAFloor().observation());
+  EXPECT_EQ(agent.lastPlan().objects, 2);
+  EXPECT_TRUE(agent.lastPlan().found_clear_pose);
+
+  DepthGeometryOptions with_floor;
+  with_floor.skip_bounding_surfaces = false;
+  DepthGeometryAgent fusing_the_floor(with_floor);
+  fusing_the_floor.act(onAFloor().observation());
+  EXPECT_EQ(fusing_the_floor.lastPlan().objects, 1);
+}
+
+TEST(DepthGeometryAgent, PlansNoPoseBeyondAnElevationTheRigStoppedAt) {
+  // The near patch above the far one: moving down parts them (the near one rises faster in the
+  // image), so the agent asks for a move down.
+  View view(std::initializer_list<Patch>{});
+  view.depth(cv::Rect(0, 32, kSize, 32)) = 3.0f;
+  view.depth(cv::Rect(0, 64, kSize, 32)) = 3.8f;
+  DepthGeometryAgent agent;
+  const Action first = agent.act(view.observation());
+  ASSERT_LT(first.d_elevation_rad, -0.5);
+  EXPECT_LT(agent.lastPlan().target_d_elevation_rad, 0.0);
+
+  // The rig moved as asked, by a smaller step than the agent plans with: the agent goes on
+  // downwards. (The same frame and depth: only the pose the rig reports matters here.)
+  View moved = view;
+  moved.pose = SphericalPose{first.d_azimuth_rad * 0.02, first.d_elevation_rad * 0.02};
+  DepthGeometryAgent following;
+  following.act(view.observation());
+  following.act(moved.observation());
+  EXPECT_LT(following.lastPlan().target_d_elevation_rad, 0.0);
+
+  // The rig did not move (a floor, a joint limit): no pose below that elevation is planned.
+  agent.act(view.observation());
+  EXPECT_GE(agent.lastPlan().target_d_elevation_rad, 0.0);
+  agent.reset(0);  // a new episode forgets the limit
+  EXPECT_LT(agent.act(view.observation()).d_elevation_rad, -0.5);
+}
+
 TEST(DepthGeometryAgent, RefusesViewsWithoutIntrinsicsOrPoseAndBadOptions) {
   DepthGeometryAgent agent;
   View no_intrinsics({{30, 60, 3.0f}});

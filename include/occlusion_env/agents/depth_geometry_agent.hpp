@@ -1,17 +1,20 @@
 // The depth-geometry agent: no network, no simulator. It fuses the depth of every view of the
-// episode into voxels in the sphere's frame, splits them into objects by the gaps between them,
-// and plans on the rig's own lattice of moves: the nearest pose from which no two objects' voxels
-// project onto the same pixel, one step towards it per view (doc/AGENTS.md, "The depth-geometry
-// agent").
+// episode into voxels in the sphere's frame (leaving out floors, walls and ceilings), splits them
+// into objects by the gaps between them, and plans on the rig's own lattice of moves: the nearest
+// pose from which no two objects' voxels project onto the same pixel, one step towards it per
+// view (doc/AGENTS.md, "The depth-geometry agent").
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <unordered_set>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "occlusion_env/agents/agent_registry.hpp"
+#include "occlusion_env/occlusion/bounding_surfaces.hpp"
 
 namespace occlusion_env {
 
@@ -27,6 +30,22 @@ struct DepthGeometryOptions {
   int join_voxels = 7;
   /// Objects of fewer voxels are dropped (a stray edge pixel, a far speck).
   int min_object_voxels = 30;
+  /// Floors, walls and ceilings are not fused: in a room the floor would join every object into
+  /// one. Each view's bounding surfaces (occlusion/bounding_surfaces.hpp: large planes with
+  /// nothing seen behind them, and the sphere's centre in front of them) are snapped level or
+  /// upright (those tilted more than 10 deg from both are not used) and kept for the episode;
+  /// nothing within their measured spread of them, or behind them, is fused from any view.
+  bool skip_bounding_surfaces = true;
+  /// The plane search. Its tolerance grows with depth 5 times faster than the camera bridge's
+  /// (0.02 z^2 [m] against 0.004): the D435 model scatters a wall facing it by 0.0037 z^2 (1
+  /// sigma: 13 cm at 6 m), so with the bridge's tolerance about a tenth of a far wall's points
+  /// lay "behind" it and it was not taken for a bound (chosen on validation scenes in a room:
+  /// doc/AGENTS.md, "The depth-geometry agent").
+  BoundingSurfaceOptions bounding_surfaces = [] {
+    BoundingSurfaceOptions options;
+    options.tolerance_per_m2 = 0.02;
+    return options;
+  }();
 
   /// The planning lattice's spacing and the step the rig makes [rad]: the environment's step.
   double step_size_rad = 0.05;
@@ -79,6 +98,11 @@ class DepthGeometryAgent : public Agent {
   double voxel_m_ = 0.0;                // fixed at an episode's first view
   std::unordered_set<std::uint64_t> occupied_;
   std::vector<SphericalPose> visited_;  // the episode's views so far
+  // The elevations the rig was seen to reach [rad]: a move that came short of the elevation asked
+  // for met a limit (a room's floor, an arm's joint), and poses beyond it are not planned for.
+  double lowest_elevation_rad_ = -M_PI / 2;
+  double highest_elevation_rad_ = M_PI / 2;
+  void noteElevationLimits(const SphericalPose& pose);
   // The current objects' voxel centres in the world frame [m] and their object index.
   std::vector<Eigen::Vector3d> centres_;
   std::vector<int> object_of_;
@@ -87,6 +111,30 @@ class DepthGeometryAgent : public Agent {
   std::vector<std::uint32_t> pixel_stamp_;
   std::vector<std::uint32_t> pixel_objects_;
   std::uint32_t stamp_ = 0;
+  // A floor or wall in the world frame: normal . p + offset_m = 0, the normal towards the
+  // sphere's centre (offset_m > 0). A point lies on it within voxel_m_ + spread_per_m2 z^2 [m]
+  // (z: the point's depth), the spread measured on the view that found it: 3 sigma of its
+  // points' distances, sigma taken to grow with z^2 as a stereo camera's does.
+  struct Bound {
+    Eigen::Vector3d normal;
+    double offset_m;
+    double spread_per_m2;
+  };
+  BoundingSurfaceFinder surfaces_;
+  cv::Mat on_surface_;         // the last view's bounding-surface pixels (255)
+  std::vector<Bound> bounds_;  // the episode's: nothing on or behind one is fused
+  // Adds the surfaces the view found (`planes`, optical frame) that are new; erases the fused
+  // voxels on or behind each new one.
+  void noteBounds(const std::vector<SurfacePlane>& planes, const cv::Mat& depth,
+                  const CameraIntrinsics& intrinsics, const Eigen::Isometry3d& world_from_optical,
+                  double radius);
+  // The view's bounding-surface pixels (on_surface_), each with its nearest of `planes`:
+  // scratch_.surface_points[plane] = (world x, y, z [m], depth [m]).
+  void collectSurfacePoints(const std::vector<SurfacePlane>& planes, const cv::Mat& depth,
+                            const CameraIntrinsics& intrinsics,
+                            const Eigen::Isometry3d& world_from_optical);
+  // Whether `world` [m], seen at depth `z_m`, lies on or behind a bound.
+  bool onOrBehindBound(const Eigen::Vector3d& world, double z_m) const;
   std::vector<std::uint8_t> grid_;    // scratch of splitIntoObjects()
   std::vector<std::int32_t> labels_;  // scratch of splitIntoObjects()
   struct Scratch {  // splitIntoObjects()' buffers, kept between views to reuse their memory
@@ -94,6 +142,8 @@ class DepthGeometryAgent : public Agent {
     std::vector<Eigen::Vector3i> cells, stack;
     std::vector<std::uint8_t> line;
     std::vector<int> voxels_per_label, label_of_voxel, order, object_of_label;
+    std::vector<std::vector<Eigen::Vector4d>> surface_points;  // noteBounds(): x, y, z, depth
+    std::vector<double> values;
   } scratch_;
   Action last_move_{1.0, 0.0};
   DepthGeometryPlan plan_;
