@@ -31,6 +31,11 @@ Eigen::Vector3i unpackKey(std::uint64_t key) {
       static_cast<int>(static_cast<std::int64_t>(key & kKeyMask) - kKeyOffset)};
 }
 
+// The centre [m] of the voxel at integer coordinates `cell`, voxels `voxel_m` on a side.
+Eigen::Vector3d voxelCentre(const Eigen::Vector3i& cell, double voxel_m) {
+  return (cell.cast<double>().array() + 0.5).matrix() * voxel_m;
+}
+
 // The index of cell `c` in a grid of `size` cells, x fastest.
 std::int64_t cellIndex(const Eigen::Vector3i& c, const Eigen::Vector3i& size) {
   return (std::int64_t{c.z()} * size.y() + c.y()) * size.x() + c.x();
@@ -212,8 +217,7 @@ void DepthGeometryAgent::noteBounds(const std::vector<SurfacePlane>& planes, con
     bounds_.push_back(bound);
     // The voxels fused before it was found, at the tolerance of a point at the sphere's radius.
     for (auto it = occupied_.begin(); it != occupied_.end();) {
-      const Eigen::Vector3d centre =
-          (unpackKey(*it).cast<double>().array() + 0.5).matrix() * voxel_m_;
+      const Eigen::Vector3d centre = voxelCentre(unpackKey(*it), voxel_m_);
       it = bound.normal.dot(centre) + bound.offset_m < tolerance_m ? occupied_.erase(it)
                                                                    : std::next(it);
     }
@@ -310,7 +314,7 @@ void DepthGeometryAgent::splitIntoObjects() {
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const int object = object_of_label[label_of_voxel[i]];
     if (object < 0) continue;
-    centres_.push_back(((cells[i] + low).cast<double>().array() + 0.5).matrix() * voxel_m_);
+    centres_.push_back(voxelCentre(cells[i] + low, voxel_m_));
     object_of_.push_back(object);
   }
 }
